@@ -1,0 +1,324 @@
+/*
+ * glint's shim over Embree 3 and Embree 4. See shim.h for the contract.
+ *
+ * GLINT_EMBREE_MAJOR (3 or 4) is set by build.rs from the headers it found. The API
+ * differences this file hides:
+ *   - Embree 3 passes an RTCIntersectContext before the ray; Embree 4 passes optional
+ *     RTCIntersectArguments / RTCOccludedArguments after it. Both init helpers are inline.
+ *   - Embree 4 enables ray masking by default (a ray mask of 0 misses everything): every ray
+ *     here carries mask 0xFFFFFFFF and geometries keep their default mask.
+ *   - Hit structs grow with RTC_MAX_INSTANCE_LEVEL_COUNT and, from 4.3, instPrimID. Rays and
+ *     hits live on this file's stack inside padded unions, so a library built with more
+ *     instance levels than the headers we compiled against still writes into our memory.
+ */
+#include "shim.h"
+
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#if GLINT_EMBREE_MAJOR == 4
+#include <embree4/rtcore.h>
+#elif GLINT_EMBREE_MAJOR == 3
+#include <embree3/rtcore.h>
+#else
+#error "GLINT_EMBREE_MAJOR must be 3 or 4 (set by build.rs)"
+#endif
+
+#if defined(__x86_64__) || defined(_M_X64) || defined(__i386__)
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+#define GLINT_X86 1
+#endif
+
+/* Room for hit fields a differently configured library may write past our headers' struct. */
+#define GLINT_HIT_SLACK 512
+
+struct glint_device {
+    RTCDevice device;
+    int error_code;
+    char error_message[512];
+};
+
+struct glint_scene {
+    RTCScene scene;
+    glint_device *device;
+};
+
+static _Atomic int64_t live_handles = 0;
+static _Thread_local char creation_error[256];
+
+int glint_embree_major(void) { return GLINT_EMBREE_MAJOR; }
+
+const char *glint_embree_version(void) { return RTC_VERSION_STRING; }
+
+int64_t glint_live_handles(void) { return atomic_load(&live_handles); }
+
+void glint_set_denormal_modes(void) {
+#ifdef GLINT_X86
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+#endif
+}
+
+static void on_error(void *user, enum RTCError code, const char *message) {
+    glint_device *d = (glint_device *)user;
+    if (d == NULL || d->error_code != 0) {
+        return; /* keep the first error: later ones are usually its consequences */
+    }
+    d->error_code = (int)code;
+    snprintf(d->error_message, sizeof d->error_message, "%s", message ? message : "");
+}
+
+glint_device *glint_device_new(const char *config) {
+    glint_device *d = (glint_device *)calloc(1, sizeof *d);
+    if (d == NULL) {
+        snprintf(creation_error, sizeof creation_error, "out of memory");
+        return NULL;
+    }
+    d->device = rtcNewDevice(config);
+    if (d->device == NULL) {
+        snprintf(creation_error, sizeof creation_error, "rtcNewDevice failed (error %d)",
+                 (int)rtcGetDeviceError(NULL));
+        free(d);
+        return NULL;
+    }
+    rtcSetDeviceErrorFunction(d->device, on_error, d);
+    atomic_fetch_add(&live_handles, 1);
+    return d;
+}
+
+const char *glint_last_creation_error(void) { return creation_error; }
+
+void glint_device_free(glint_device *d) {
+    if (d == NULL) {
+        return;
+    }
+    /* Scenes still alive hold their own RTCDevice reference; the callback's user pointer is
+     * cleared so a late error cannot write into freed memory. */
+    rtcSetDeviceErrorFunction(d->device, NULL, NULL);
+    rtcReleaseDevice(d->device);
+    free(d);
+    atomic_fetch_sub(&live_handles, 1);
+}
+
+int glint_device_take_error(glint_device *d, char *buf, size_t len) {
+    int code = d->error_code;
+    if (buf != NULL && len > 0) {
+        snprintf(buf, len, "%s", code != 0 ? d->error_message : "");
+    }
+    d->error_code = 0;
+    d->error_message[0] = '\0';
+    return code;
+}
+
+glint_scene *glint_scene_new(glint_device *d, glint_build_quality quality, int robust) {
+    glint_scene *s = (glint_scene *)calloc(1, sizeof *s);
+    if (s == NULL) {
+        return NULL;
+    }
+    s->scene = rtcNewScene(d->device);
+    if (s->scene == NULL) {
+        free(s);
+        return NULL;
+    }
+    s->device = d;
+    enum RTCBuildQuality q = quality == GLINT_BUILD_LOW    ? RTC_BUILD_QUALITY_LOW
+                             : quality == GLINT_BUILD_HIGH ? RTC_BUILD_QUALITY_HIGH
+                                                           : RTC_BUILD_QUALITY_MEDIUM;
+    rtcSetSceneBuildQuality(s->scene, q);
+    rtcSetSceneFlags(s->scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+    atomic_fetch_add(&live_handles, 1);
+    return s;
+}
+
+int64_t glint_scene_add_triangles(glint_scene *s, const float *positions, size_t vertex_count,
+                                  const uint32_t *indices, size_t triangle_count) {
+    RTCGeometry g = rtcNewGeometry(s->device->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (g == NULL) {
+        return -1;
+    }
+    atomic_fetch_add(&live_handles, 1);
+    float *v = (float *)rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                3 * sizeof(float), vertex_count);
+    uint32_t *t = (uint32_t *)rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
+                                                      RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
+                                                      triangle_count);
+    int64_t id = -1;
+    if (v != NULL && t != NULL) {
+        memcpy(v, positions, vertex_count * 3 * sizeof(float));
+        memcpy(t, indices, triangle_count * 3 * sizeof(uint32_t));
+        rtcCommitGeometry(g);
+        id = (int64_t)rtcAttachGeometry(s->scene, g);
+    }
+    /* The scene holds its own reference once attached. */
+    rtcReleaseGeometry(g);
+    atomic_fetch_sub(&live_handles, 1);
+    return id;
+}
+
+int glint_scene_commit(glint_scene *s) {
+    rtcCommitScene(s->scene);
+    return (int)rtcGetDeviceError(s->device->device);
+}
+
+void glint_scene_free(glint_scene *s) {
+    if (s == NULL) {
+        return;
+    }
+    rtcReleaseScene(s->scene);
+    free(s);
+    atomic_fetch_sub(&live_handles, 1);
+}
+
+/* ---- single rays ------------------------------------------------------------------------ */
+
+typedef union {
+    struct RTCRayHit rh;
+    char slack[sizeof(struct RTCRayHit) + GLINT_HIT_SLACK];
+} padded_rayhit;
+
+typedef union {
+    struct RTCRay8 r;
+    char slack[sizeof(struct RTCRay8) + GLINT_HIT_SLACK];
+} padded_ray8;
+
+typedef union {
+    struct RTCRayHit8 rh;
+    char slack[sizeof(struct RTCRayHit8) + 8 * GLINT_HIT_SLACK];
+} padded_rayhit8;
+
+static void load_ray(struct RTCRay *r, const glint_ray *in) {
+    r->org_x = in->org[0];
+    r->org_y = in->org[1];
+    r->org_z = in->org[2];
+    r->tnear = in->tnear;
+    r->dir_x = in->dir[0];
+    r->dir_y = in->dir[1];
+    r->dir_z = in->dir[2];
+    r->time = 0.0f;
+    r->tfar = in->tfar;
+    r->mask = 0xFFFFFFFFu;
+    r->id = 0;
+    r->flags = 0;
+}
+
+#if GLINT_EMBREE_MAJOR == 4
+#define GLINT_QUERY_ARGS(name, kind, coherent)                                                   \
+    struct RTC##kind##Arguments name;                                                            \
+    rtcInit##kind##Arguments(&name);                                                             \
+    name.flags = (coherent) ? RTC_RAY_QUERY_FLAG_COHERENT : RTC_RAY_QUERY_FLAG_INCOHERENT
+#define GLINT_INTERSECT1(scene, rh, args) rtcIntersect1((scene), (rh), &(args))
+#define GLINT_OCCLUDED1(scene, r, args) rtcOccluded1((scene), (r), &(args))
+#define GLINT_INTERSECT8(valid, scene, rh, args) rtcIntersect8((valid), (scene), (rh), &(args))
+#define GLINT_OCCLUDED8(valid, scene, r, args) rtcOccluded8((valid), (scene), (r), &(args))
+#else
+#define GLINT_QUERY_ARGS(name, kind, coherent)                                                   \
+    struct RTCIntersectContext name;                                                             \
+    rtcInitIntersectContext(&name);                                                              \
+    name.flags = (coherent) ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT                                \
+                            : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
+#define GLINT_INTERSECT1(scene, rh, args) rtcIntersect1((scene), &(args), (rh))
+#define GLINT_OCCLUDED1(scene, r, args) rtcOccluded1((scene), &(args), (r))
+#define GLINT_INTERSECT8(valid, scene, rh, args) rtcIntersect8((valid), (scene), &(args), (rh))
+#define GLINT_OCCLUDED8(valid, scene, r, args) rtcOccluded8((valid), (scene), &(args), (r))
+#endif
+
+void glint_intersect1(const glint_scene *s, const glint_ray *rays, glint_hit *hits, size_t n,
+                      int coherent) {
+    GLINT_QUERY_ARGS(args, Intersect, coherent);
+    padded_rayhit p;
+    for (size_t i = 0; i < n; ++i) {
+        load_ray(&p.rh.ray, &rays[i]);
+        p.rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        p.rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        GLINT_INTERSECT1(s->scene, &p.rh, args);
+        glint_hit *h = &hits[i];
+        h->geom_id = p.rh.hit.geomID;
+        h->prim_id = p.rh.hit.primID;
+        h->t = p.rh.ray.tfar;
+        h->u = p.rh.hit.u;
+        h->v = p.rh.hit.v;
+        h->ng[0] = p.rh.hit.Ng_x;
+        h->ng[1] = p.rh.hit.Ng_y;
+        h->ng[2] = p.rh.hit.Ng_z;
+    }
+}
+
+void glint_occluded1(const glint_scene *s, const glint_ray *rays, uint8_t *occluded, size_t n,
+                     int coherent) {
+    GLINT_QUERY_ARGS(args, Occluded, coherent);
+    struct RTCRay r;
+    for (size_t i = 0; i < n; ++i) {
+        load_ray(&r, &rays[i]);
+        GLINT_OCCLUDED1(s->scene, &r, args);
+        /* Embree marks an occluded ray by setting tfar to -inf. */
+        occluded[i] = r.tfar < 0.0f && isinf(r.tfar);
+    }
+}
+
+/* ---- packets of 8 ----------------------------------------------------------------------- */
+
+static void load_ray8(struct RTCRay8 *r, const glint_ray *in, size_t count, int *valid) {
+    for (size_t k = 0; k < 8; ++k) {
+        /* Lanes past the end repeat the last ray and are masked off. */
+        const glint_ray *src = &in[k < count ? k : count - 1];
+        valid[k] = k < count ? -1 : 0;
+        r->org_x[k] = src->org[0];
+        r->org_y[k] = src->org[1];
+        r->org_z[k] = src->org[2];
+        r->tnear[k] = src->tnear;
+        r->dir_x[k] = src->dir[0];
+        r->dir_y[k] = src->dir[1];
+        r->dir_z[k] = src->dir[2];
+        r->time[k] = 0.0f;
+        r->tfar[k] = src->tfar;
+        r->mask[k] = 0xFFFFFFFFu;
+        r->id[k] = (unsigned)k;
+        r->flags[k] = 0;
+    }
+}
+
+void glint_intersect8(const glint_scene *s, const glint_ray *rays, glint_hit *hits, size_t n,
+                      int coherent) {
+    GLINT_QUERY_ARGS(args, Intersect, coherent);
+    padded_rayhit8 p __attribute__((aligned(64)));
+    int valid[8] __attribute__((aligned(32)));
+    for (size_t base = 0; base < n; base += 8) {
+        size_t count = n - base < 8 ? n - base : 8;
+        load_ray8(&p.rh.ray, rays + base, count, valid);
+        for (size_t k = 0; k < 8; ++k) {
+            p.rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            p.rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        GLINT_INTERSECT8(valid, s->scene, &p.rh, args);
+        for (size_t k = 0; k < count; ++k) {
+            glint_hit *h = &hits[base + k];
+            h->geom_id = p.rh.hit.geomID[k];
+            h->prim_id = p.rh.hit.primID[k];
+            h->t = p.rh.ray.tfar[k];
+            h->u = p.rh.hit.u[k];
+            h->v = p.rh.hit.v[k];
+            h->ng[0] = p.rh.hit.Ng_x[k];
+            h->ng[1] = p.rh.hit.Ng_y[k];
+            h->ng[2] = p.rh.hit.Ng_z[k];
+        }
+    }
+}
+
+void glint_occluded8(const glint_scene *s, const glint_ray *rays, uint8_t *occluded, size_t n,
+                     int coherent) {
+    GLINT_QUERY_ARGS(args, Occluded, coherent);
+    padded_ray8 p __attribute__((aligned(64)));
+    int valid[8] __attribute__((aligned(32)));
+    for (size_t base = 0; base < n; base += 8) {
+        size_t count = n - base < 8 ? n - base : 8;
+        load_ray8(&p.r, rays + base, count, valid);
+        GLINT_OCCLUDED8(valid, s->scene, &p.r, args);
+        for (size_t k = 0; k < count; ++k) {
+            occluded[base + k] = p.r.tfar[k] < 0.0f && isinf(p.r.tfar[k]);
+        }
+    }
+}

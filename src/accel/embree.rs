@@ -1,0 +1,370 @@
+//! The Embree backend: safe RAII wrappers over glint's C shim (`ffi/shim.h`).
+//!
+//! This module is the only place in glint with `unsafe`. The invariants it relies on:
+//! - Every handle comes from the shim and is released exactly once, in `Drop`.
+//! - A committed scene is never modified again, and Embree documents queries on a committed
+//!   scene as thread-safe: hence `Send + Sync` for [`EmbreeAccel`], and for nothing else.
+//! - Ray and hit buffers passed to the shim are Rust slices of the shim's own plain structs,
+//!   with the lengths passed alongside.
+
+use super::{
+    Accel, AccelError, BackendKind, BuildOptions, BuildQuality, Coherence, Hit, Ray, TriangleMesh,
+};
+use glam::Vec3;
+use std::ffi::CStr;
+use std::ptr::NonNull;
+use std::sync::Arc;
+
+#[allow(
+    non_camel_case_types,
+    non_upper_case_globals,
+    non_snake_case,
+    dead_code,
+    unsafe_op_in_unsafe_fn,
+    clippy::all
+)]
+mod ffi {
+    include!(concat!(env!("OUT_DIR"), "/shim_bindings.rs"));
+}
+
+/// Rays per call into the shim: large enough to amortise the FFI call, small enough to stay on
+/// the stack.
+const CHUNK: usize = 64;
+
+/// Embree's major version (3 or 4) that this build links.
+pub fn embree_major() -> i32 {
+    // SAFETY: a pure function of the shim with no arguments.
+    unsafe { ffi::glint_embree_major() }
+}
+
+/// Embree's version string from the headers the shim was compiled against.
+pub fn embree_version() -> String {
+    // SAFETY: returns a pointer to a static NUL-terminated string literal.
+    unsafe { CStr::from_ptr(ffi::glint_embree_version()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// Number of Embree device, scene and geometry handles alive in this process. Used by the
+/// leak tests: building and dropping scenes must bring it back to where it was.
+pub fn live_handles() -> i64 {
+    // SAFETY: reads an atomic counter.
+    unsafe { ffi::glint_live_handles() }
+}
+
+/// Sets flush-to-zero and denormals-are-zero on the calling thread, as Embree recommends for
+/// every thread that traces rays. Call it from each worker thread's start handler.
+pub fn set_denormal_modes() {
+    // SAFETY: changes only the calling thread's MXCSR register.
+    unsafe { ffi::glint_set_denormal_modes() }
+}
+
+/// An Embree device. Shared by the scenes built on it.
+pub struct Device {
+    raw: NonNull<ffi::glint_device>,
+}
+
+// SAFETY: Embree devices may be used from any thread; glint creates scenes on one thread at a
+// time (building takes `&mut`-free calls guarded by the scene's own ownership).
+unsafe impl Send for Device {}
+// SAFETY: the device is only read (scene creation, error polling) after construction; Embree
+// documents device functions as thread-safe.
+unsafe impl Sync for Device {}
+
+impl Device {
+    /// Creates a device with Embree's default configuration.
+    pub fn new() -> Result<Self, AccelError> {
+        // SAFETY: a NULL config asks for the defaults.
+        let raw = unsafe { ffi::glint_device_new(std::ptr::null()) };
+        match NonNull::new(raw) {
+            Some(raw) => Ok(Self { raw }),
+            None => {
+                // SAFETY: returns a thread-local NUL-terminated buffer.
+                let why = unsafe { CStr::from_ptr(ffi::glint_last_creation_error()) };
+                Err(AccelError::Device(why.to_string_lossy().into_owned()))
+            }
+        }
+    }
+
+    /// Takes the first error Embree reported since the last call.
+    fn take_error(&self) -> Option<AccelError> {
+        let mut buf = [0 as std::ffi::c_char; 512];
+        // SAFETY: the buffer and its length are passed together; the shim NUL-terminates it.
+        let code =
+            unsafe { ffi::glint_device_take_error(self.raw.as_ptr(), buf.as_mut_ptr(), buf.len()) };
+        if code == 0 {
+            return None;
+        }
+        // SAFETY: NUL-terminated by the shim.
+        let message = unsafe { CStr::from_ptr(buf.as_ptr()) }
+            .to_string_lossy()
+            .into_owned();
+        Some(AccelError::Embree { code, message })
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: the handle is live and released once; scenes hold their own reference.
+        unsafe { ffi::glint_device_free(self.raw.as_ptr()) }
+    }
+}
+
+/// Builds one process-wide device lazily: creating a device spins up Embree's thread pool, so
+/// sharing one across scenes is what Embree recommends.
+fn shared_device() -> Result<Arc<Device>, AccelError> {
+    use std::sync::Mutex;
+    static DEVICE: Mutex<Option<Arc<Device>>> = Mutex::new(None);
+    let mut slot = DEVICE.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    if let Some(device) = slot.as_ref() {
+        return Ok(Arc::clone(device));
+    }
+    let device = Arc::new(Device::new()?);
+    *slot = Some(Arc::clone(&device));
+    Ok(device)
+}
+
+/// A committed Embree scene of triangle meshes.
+pub struct EmbreeAccel {
+    raw: NonNull<ffi::glint_scene>,
+    device: Arc<Device>,
+    triangles: usize,
+}
+
+// SAFETY: the scene is committed in `build` and never modified afterwards; Embree documents
+// rtcIntersect*/rtcOccluded* on a committed scene as safe from any number of threads.
+unsafe impl Send for EmbreeAccel {}
+// SAFETY: as above: all `&self` methods are read-only queries.
+unsafe impl Sync for EmbreeAccel {}
+
+impl EmbreeAccel {
+    /// Builds a scene on the process-wide device.
+    pub fn build(meshes: &[TriangleMesh<'_>], options: BuildOptions) -> Result<Self, AccelError> {
+        Self::build_on(shared_device()?, meshes, options)
+    }
+
+    /// Builds a scene on a given device.
+    pub fn build_on(
+        device: Arc<Device>,
+        meshes: &[TriangleMesh<'_>],
+        options: BuildOptions,
+    ) -> Result<Self, AccelError> {
+        let quality = match options.quality {
+            BuildQuality::Low => ffi::glint_build_quality::GLINT_BUILD_LOW,
+            BuildQuality::Medium => ffi::glint_build_quality::GLINT_BUILD_MEDIUM,
+            BuildQuality::High => ffi::glint_build_quality::GLINT_BUILD_HIGH,
+        };
+        // SAFETY: the device handle is live for the call (held by the Arc).
+        let raw =
+            unsafe { ffi::glint_scene_new(device.raw.as_ptr(), quality, options.robust as i32) };
+        let raw = NonNull::new(raw).ok_or_else(|| {
+            device
+                .take_error()
+                .unwrap_or_else(|| AccelError::Device("rtcNewScene failed".into()))
+        })?;
+        // From here on, Drop releases the scene on every error path.
+        let accel = Self {
+            raw,
+            device,
+            triangles: meshes.iter().map(|m| m.indices.len()).sum(),
+        };
+        for (index, mesh) in meshes.iter().enumerate() {
+            // SAFETY: Vec3 is three f32s with no padding (glam's Vec3 is #[repr(C)]) and
+            // [u32; 3] is three u32s, so the slices are the packed arrays the shim copies; the
+            // counts passed are those of the slices.
+            let id = unsafe {
+                ffi::glint_scene_add_triangles(
+                    accel.raw.as_ptr(),
+                    mesh.positions.as_ptr().cast::<f32>(),
+                    mesh.positions.len(),
+                    mesh.indices.as_ptr().cast::<u32>(),
+                    mesh.indices.len(),
+                )
+            };
+            if let Some(err) = accel.device.take_error() {
+                return Err(err);
+            }
+            // Geometry ids are handed out densely from 0 in attach order; the renderer relies
+            // on id == mesh index.
+            if id != index as i64 {
+                return Err(AccelError::InvalidGeometry {
+                    mesh: index,
+                    reason: format!("Embree gave geometry id {id}, expected {index}"),
+                });
+            }
+        }
+        // SAFETY: the scene handle is live; commit builds the BVH.
+        let code = unsafe { ffi::glint_scene_commit(accel.raw.as_ptr()) };
+        if let Some(err) = accel.device.take_error() {
+            return Err(err);
+        }
+        if code != 0 {
+            return Err(AccelError::Embree {
+                code,
+                message: "rtcCommitScene failed".into(),
+            });
+        }
+        Ok(accel)
+    }
+
+    /// Closest hits one ray at a time (`rtcIntersect1`), for comparing against packets.
+    pub fn intersect_single(&self, rays: &[Ray], hits: &mut [Option<Hit>], coherence: Coherence) {
+        self.query_hits(rays, hits, coherence, ffi::glint_intersect1);
+    }
+
+    /// Closest hits in packets of 8 (`rtcIntersect8`).
+    pub fn intersect_packets(&self, rays: &[Ray], hits: &mut [Option<Hit>], coherence: Coherence) {
+        self.query_hits(rays, hits, coherence, ffi::glint_intersect8);
+    }
+
+    /// Occlusion one ray at a time (`rtcOccluded1`).
+    pub fn occluded_single(&self, rays: &[Ray], out: &mut [bool], coherence: Coherence) {
+        self.query_occlusion(rays, out, coherence, ffi::glint_occluded1);
+    }
+
+    /// Occlusion in packets of 8 (`rtcOccluded8`).
+    pub fn occluded_packets(&self, rays: &[Ray], out: &mut [bool], coherence: Coherence) {
+        self.query_occlusion(rays, out, coherence, ffi::glint_occluded8);
+    }
+
+    fn query_hits(
+        &self,
+        rays: &[Ray],
+        hits: &mut [Option<Hit>],
+        coherence: Coherence,
+        query: unsafe extern "C" fn(
+            *const ffi::glint_scene,
+            *const ffi::glint_ray,
+            *mut ffi::glint_hit,
+            usize,
+            i32,
+        ),
+    ) {
+        let coherent = (coherence == Coherence::Coherent) as i32;
+        let mut raw_rays = [ffi::glint_ray::default(); CHUNK];
+        let mut raw_hits = [ffi::glint_hit::default(); CHUNK];
+        for (ray_chunk, hit_chunk) in rays.chunks(CHUNK).zip(hits.chunks_mut(CHUNK)) {
+            let n = ray_chunk.len().min(hit_chunk.len());
+            for (dst, src) in raw_rays.iter_mut().zip(ray_chunk) {
+                *dst = to_raw(src);
+            }
+            // SAFETY: both buffers hold at least n elements; the scene is committed.
+            unsafe {
+                query(
+                    self.raw.as_ptr(),
+                    raw_rays.as_ptr(),
+                    raw_hits.as_mut_ptr(),
+                    n,
+                    coherent,
+                )
+            };
+            for (dst, src) in hit_chunk.iter_mut().zip(&raw_hits[..n]) {
+                *dst = from_raw(src);
+            }
+        }
+    }
+
+    fn query_occlusion(
+        &self,
+        rays: &[Ray],
+        out: &mut [bool],
+        coherence: Coherence,
+        query: unsafe extern "C" fn(
+            *const ffi::glint_scene,
+            *const ffi::glint_ray,
+            *mut u8,
+            usize,
+            i32,
+        ),
+    ) {
+        let coherent = (coherence == Coherence::Coherent) as i32;
+        let mut raw_rays = [ffi::glint_ray::default(); CHUNK];
+        let mut raw_out = [0u8; CHUNK];
+        for (ray_chunk, out_chunk) in rays.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let n = ray_chunk.len().min(out_chunk.len());
+            for (dst, src) in raw_rays.iter_mut().zip(ray_chunk) {
+                *dst = to_raw(src);
+            }
+            // SAFETY: both buffers hold at least n elements; the scene is committed.
+            unsafe {
+                query(
+                    self.raw.as_ptr(),
+                    raw_rays.as_ptr(),
+                    raw_out.as_mut_ptr(),
+                    n,
+                    coherent,
+                )
+            };
+            for (dst, src) in out_chunk.iter_mut().zip(&raw_out[..n]) {
+                *dst = *src != 0;
+            }
+        }
+    }
+}
+
+impl Drop for EmbreeAccel {
+    fn drop(&mut self) {
+        // SAFETY: the handle is live and released exactly once.
+        unsafe { ffi::glint_scene_free(self.raw.as_ptr()) }
+    }
+}
+
+#[inline]
+fn to_raw(ray: &Ray) -> ffi::glint_ray {
+    ffi::glint_ray {
+        org: ray.origin.to_array(),
+        tnear: ray.tnear,
+        dir: ray.dir.to_array(),
+        tfar: ray.tfar,
+    }
+}
+
+#[inline]
+fn from_raw(hit: &ffi::glint_hit) -> Option<Hit> {
+    if hit.geom_id == ffi::GLINT_INVALID_ID {
+        return None;
+    }
+    Some(Hit {
+        t: hit.t,
+        geom_id: hit.geom_id,
+        prim_id: hit.prim_id,
+        u: hit.u,
+        v: hit.v,
+        // Embree's Ng is (v2 − v0) × (v0 − v1) = (v1 − v0) × (v2 − v0): glTF's side already.
+        ng: Vec3::from_array(hit.ng).normalize_or_zero(),
+    })
+}
+
+impl Accel for EmbreeAccel {
+    fn kind(&self) -> BackendKind {
+        BackendKind::Embree
+    }
+
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let raw_ray = to_raw(ray);
+        let mut raw_hit = ffi::glint_hit::default();
+        // SAFETY: one ray in, one hit out; the scene is committed.
+        unsafe { ffi::glint_intersect1(self.raw.as_ptr(), &raw_ray, &mut raw_hit, 1, 0) };
+        from_raw(&raw_hit)
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        let raw_ray = to_raw(ray);
+        let mut out = 0u8;
+        // SAFETY: one ray in, one flag out; the scene is committed.
+        unsafe { ffi::glint_occluded1(self.raw.as_ptr(), &raw_ray, &mut out, 1, 0) };
+        out != 0
+    }
+
+    fn intersect_many(&self, rays: &[Ray], hits: &mut [Option<Hit>], coherence: Coherence) {
+        self.intersect_packets(rays, hits, coherence);
+    }
+
+    fn occluded_many(&self, rays: &[Ray], out: &mut [bool], coherence: Coherence) {
+        self.occluded_packets(rays, out, coherence);
+    }
+
+    fn triangle_count(&self) -> usize {
+        self.triangles
+    }
+}

@@ -1,0 +1,327 @@
+//! Ray queries: one trait, two interchangeable backends.
+//!
+//! - [`embree`]: Intel Embree through the C shim in `ffi/` (feature `embree`, the default).
+//! - [`bvh`]: a pure-Rust compressed-wide BVH from the `obvhs` crate.
+//!
+//! Both answer the same two questions over the same triangles: the closest hit in
+//! `[tnear, tfar]`, and whether anything at all lies in `[tnear, tfar]` (shadow rays). Geometry
+//! id `g` is the index of the mesh in the slice given to [`build`]; primitive id `p` is the
+//! triangle's index within that mesh. The geometric normal follows glTF's winding:
+//! `normalize((v1 - v0) × (v2 - v0))`, front face counter-clockwise.
+
+#[cfg(feature = "embree")]
+pub mod embree;
+
+pub mod bvh;
+
+use glam::Vec3;
+use std::fmt;
+use std::str::FromStr;
+
+/// A ray with its parametric interval. `dir` need not be normalised; `t` is in units of `dir`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Origin.
+    pub origin: Vec3,
+    /// Direction (any non-zero length).
+    pub dir: Vec3,
+    /// Smallest accepted hit distance.
+    pub tnear: f32,
+    /// Largest accepted hit distance.
+    pub tfar: f32,
+}
+
+impl Ray {
+    /// A ray over `[0, ∞)`.
+    #[inline]
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Self {
+            origin,
+            dir,
+            tnear: 0.0,
+            tfar: f32::INFINITY,
+        }
+    }
+
+    /// A ray over `[tnear, tfar]`.
+    #[inline]
+    pub fn segment(origin: Vec3, dir: Vec3, tnear: f32, tfar: f32) -> Self {
+        Self {
+            origin,
+            dir,
+            tnear,
+            tfar,
+        }
+    }
+
+    /// The point at parameter `t`.
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// The closest hit along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the ray, in units of `Ray::dir`.
+    pub t: f32,
+    /// Index of the mesh given to [`build`].
+    pub geom_id: u32,
+    /// Index of the triangle within that mesh.
+    pub prim_id: u32,
+    /// Barycentric weight of the triangle's second vertex.
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex.
+    pub v: f32,
+    /// Unit geometric normal, `normalize((v1 - v0) × (v2 - v0))`.
+    pub ng: Vec3,
+}
+
+/// Triangles in world space, borrowed while a backend builds its acceleration structure.
+/// Backends copy what they need; the mesh may be dropped after [`build`].
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleMesh<'a> {
+    /// Vertex positions.
+    pub positions: &'a [Vec3],
+    /// Vertex indices, three per triangle.
+    pub indices: &'a [[u32; 3]],
+}
+
+/// Which backend answers the ray queries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum BackendKind {
+    /// Intel Embree (needs the `embree` feature).
+    #[cfg_attr(feature = "embree", default)]
+    Embree,
+    /// The pure-Rust obvhs CWBVH.
+    #[cfg_attr(not(feature = "embree"), default)]
+    Bvh,
+}
+
+impl BackendKind {
+    /// Every backend compiled into this build.
+    pub fn available() -> &'static [BackendKind] {
+        #[cfg(feature = "embree")]
+        {
+            &[BackendKind::Embree, BackendKind::Bvh]
+        }
+        #[cfg(not(feature = "embree"))]
+        {
+            &[BackendKind::Bvh]
+        }
+    }
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            BackendKind::Embree => "embree",
+            BackendKind::Bvh => "bvh",
+        }
+    }
+}
+
+impl fmt::Display for BackendKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for BackendKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "embree" => Ok(BackendKind::Embree),
+            "bvh" | "obvhs" => Ok(BackendKind::Bvh),
+            other => Err(format!("unknown backend '{other}' (expected embree or bvh)")),
+        }
+    }
+}
+
+/// How much time to spend building the acceleration structure, for faster queries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum BuildQuality {
+    /// Fastest build (Embree LOW, obvhs `fast_build`).
+    Low,
+    /// The default (Embree MEDIUM, obvhs `medium_build`).
+    #[default]
+    Medium,
+    /// Best trees (Embree HIGH with spatial splits, obvhs `very_slow_build`).
+    High,
+}
+
+impl BuildQuality {
+    /// All qualities, fastest build first.
+    pub const ALL: [BuildQuality; 3] = [BuildQuality::Low, BuildQuality::Medium, BuildQuality::High];
+
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            BuildQuality::Low => "low",
+            BuildQuality::Medium => "medium",
+            BuildQuality::High => "high",
+        }
+    }
+}
+
+impl FromStr for BuildQuality {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "low" => Ok(BuildQuality::Low),
+            "medium" => Ok(BuildQuality::Medium),
+            "high" => Ok(BuildQuality::High),
+            other => Err(format!(
+                "unknown build quality '{other}' (expected low, medium or high)"
+            )),
+        }
+    }
+}
+
+/// Settings for building an acceleration structure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub struct BuildOptions {
+    /// Build effort.
+    pub quality: BuildQuality,
+    /// Embree's robust mode (`RTC_SCENE_FLAG_ROBUST`): watertight traversal at some speed cost.
+    /// obvhs has no such switch and ignores it.
+    pub robust: bool,
+}
+
+/// Whether a batch of rays is coherent (camera rays of neighbouring pixels) or not (bounces).
+/// Embree tunes its traversal with this hint; it never changes the answers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Coherence {
+    /// Rays share origin and nearly share direction.
+    Coherent,
+    /// Rays go anywhere.
+    #[default]
+    Incoherent,
+}
+
+/// Errors from building an acceleration structure.
+#[derive(Debug, thiserror::Error)]
+pub enum AccelError {
+    /// The Embree device could not be created.
+    #[error("could not start Embree: {0}")]
+    Device(String),
+    /// Embree reported an error.
+    #[error("Embree error {code}: {message}")]
+    Embree {
+        /// Embree's RTCError code.
+        code: i32,
+        /// Embree's message.
+        message: String,
+    },
+    /// The backend is not compiled into this build.
+    #[error("the {0} backend is not built into this glint (rebuild with the `embree` feature)")]
+    Unavailable(BackendKind),
+    /// The input geometry is unusable.
+    #[error("invalid geometry in mesh {mesh}: {reason}")]
+    InvalidGeometry {
+        /// Mesh index.
+        mesh: usize,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// A built acceleration structure that answers ray queries. Thread-safe: queries may run from
+/// any number of threads at once.
+pub trait Accel: Send + Sync {
+    /// Which backend this is.
+    fn kind(&self) -> BackendKind;
+
+    /// Closest hit of one ray in `[tnear, tfar]`.
+    fn intersect(&self, ray: &Ray) -> Option<Hit>;
+
+    /// Whether anything lies in `[tnear, tfar]` (any hit; for shadow rays).
+    fn occluded(&self, ray: &Ray) -> bool;
+
+    /// Closest hits of many rays. Backends override this with packet or stream traversal where
+    /// it pays; the answers equal those of [`Accel::intersect`].
+    fn intersect_many(&self, rays: &[Ray], hits: &mut [Option<Hit>], coherence: Coherence) {
+        let _ = coherence;
+        for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
+            *hit = self.intersect(ray);
+        }
+    }
+
+    /// Occlusion of many rays; the answers equal those of [`Accel::occluded`].
+    fn occluded_many(&self, rays: &[Ray], occluded: &mut [bool], coherence: Coherence) {
+        let _ = coherence;
+        for (ray, out) in rays.iter().zip(occluded.iter_mut()) {
+            *out = self.occluded(ray);
+        }
+    }
+
+    /// Number of triangles in the structure.
+    fn triangle_count(&self) -> usize;
+}
+
+/// Builds the chosen backend over `meshes`.
+pub fn build(
+    kind: BackendKind,
+    meshes: &[TriangleMesh<'_>],
+    options: BuildOptions,
+) -> Result<Box<dyn Accel>, AccelError> {
+    validate(meshes)?;
+    match kind {
+        #[cfg(feature = "embree")]
+        BackendKind::Embree => Ok(Box::new(embree::EmbreeAccel::build(meshes, options)?)),
+        #[cfg(not(feature = "embree"))]
+        BackendKind::Embree => Err(AccelError::Unavailable(BackendKind::Embree)),
+        BackendKind::Bvh => Ok(Box::new(bvh::BvhAccel::build(meshes, options))),
+    }
+}
+
+/// Rejects input that would make either backend misbehave: out-of-range indices, non-finite
+/// positions. Catching it here keeps both backends' behaviour identical and defined.
+fn validate(meshes: &[TriangleMesh<'_>]) -> Result<(), AccelError> {
+    for (mesh_index, mesh) in meshes.iter().enumerate() {
+        let n = mesh.positions.len();
+        if let Some(bad) = mesh.positions.iter().position(|p| !p.is_finite()) {
+            return Err(AccelError::InvalidGeometry {
+                mesh: mesh_index,
+                reason: format!("vertex {bad} has a non-finite position"),
+            });
+        }
+        if let Some((tri, _)) = mesh
+            .indices
+            .iter()
+            .enumerate()
+            .find(|(_, t)| t.iter().any(|&i| i as usize >= n))
+        {
+            return Err(AccelError::InvalidGeometry {
+                mesh: mesh_index,
+                reason: format!("triangle {tri} indexes past the {n} vertices"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Barycentric coordinates `(u, v)` of the point where `ray` meets the plane of the triangle,
+/// with `u` the weight of `v1` and `v` of `v2`; `None` for a ray parallel to it.
+#[inline]
+pub fn barycentrics(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32)> {
+    let e1 = v1 - v0;
+    let e2 = v2 - v0;
+    let p = ray.dir.cross(e2);
+    let det = e1.dot(p);
+    if det == 0.0 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = ray.origin - v0;
+    let u = s.dot(p) * inv;
+    let q = s.cross(e1);
+    let v = ray.dir.dot(q) * inv;
+    Some((u, v))
+}
+
+/// Unit geometric normal of a triangle in glTF's winding; zero for a degenerate triangle.
+#[inline]
+pub fn triangle_normal(v0: Vec3, v1: Vec3, v2: Vec3) -> Vec3 {
+    (v1 - v0).cross(v2 - v0).normalize_or_zero()
+}

@@ -1,0 +1,12 @@
+//! glint: a native CPU renderer for glTF 2.0 scenes.
+//!
+//! Ray queries go to Intel Embree (through the C shim in `ffi/`) or to a pure-Rust BVH; the
+//! light transport above them is safe Rust. See the README for the command line.
+
+#![deny(unsafe_code)]
+
+#[allow(unsafe_code)]
+pub mod accel;
+pub mod procedural;
+pub mod scene;
+pub mod cli;

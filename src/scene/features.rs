@@ -1,0 +1,67 @@
+//! What a scene requires, known once at load, so that per-hit work it does not need is never
+//! done (no texture-coordinate interpolation without textures, no reflection rays without
+//! mirrors, no cone test without spot lights).
+
+use super::{Light, Scene};
+
+/// The features a scene uses. Computed by [`SceneFeatures::of`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SceneFeatures {
+    /// At least one point light.
+    pub point_lights: bool,
+    /// At least one spot light.
+    pub spot_lights: bool,
+    /// At least one directional light.
+    pub directional_lights: bool,
+    /// At least one light with a finite range.
+    pub light_ranges: bool,
+    /// At least one material with a base colour or emissive texture.
+    pub textures: bool,
+    /// At least one material with a mirror lobe.
+    pub mirrors: bool,
+    /// At least one emissive material.
+    pub emission: bool,
+    /// At least one mesh with vertex colours.
+    pub vertex_colors: bool,
+    /// At least one mesh with shading normals.
+    pub shading_normals: bool,
+    /// At least one single-sided material (back faces must be detected).
+    pub single_sided: bool,
+}
+
+impl SceneFeatures {
+    /// Scans the scene once.
+    pub fn of(scene: &Scene) -> Self {
+        let mut f = SceneFeatures::default();
+        for light in &scene.lights {
+            match light {
+                Light::Point { range, .. } => {
+                    f.point_lights = true;
+                    f.light_ranges |= range.is_some();
+                }
+                Light::Spot { range, .. } => {
+                    f.spot_lights = true;
+                    f.light_ranges |= range.is_some();
+                }
+                Light::Directional { .. } => f.directional_lights = true,
+            }
+        }
+        // Only materials that some mesh uses count.
+        let mut used = vec![false; scene.materials.len()];
+        for mesh in &scene.meshes {
+            if let Some(slot) = used.get_mut(mesh.material) {
+                *slot = true;
+            }
+            f.vertex_colors |= mesh.colors.is_some();
+            f.shading_normals |= mesh.normals.is_some();
+        }
+        for (material, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
+            f.textures |=
+                material.base_color_texture.is_some() || material.emissive_texture.is_some();
+            f.mirrors |= material.has_mirror_lobe();
+            f.emission |= material.emissive != glam::Vec3::ZERO;
+            f.single_sided |= !material.double_sided;
+        }
+        f
+    }
+}

@@ -1,0 +1,266 @@
+//! The scene glint renders: world-space meshes, materials, textures, cameras and lights.
+//!
+//! Loaders (glTF in [`gltf`]) flatten the node hierarchy into this form once, at load; the
+//! renderer never walks a hierarchy. Units: lengths in scene units (glTF metres), light
+//! intensities radiometric (see [`Light`]).
+
+pub mod features;
+pub mod gltf;
+
+use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
+
+pub use features::SceneFeatures;
+
+/// A scene ready to render.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// Triangle meshes in world space; a mesh's index is its geometry id in the ray backends.
+    pub meshes: Vec<Mesh>,
+    /// Materials referenced by `Mesh::material`.
+    pub materials: Vec<Material>,
+    /// Decoded textures referenced by `TextureRef::texture`.
+    pub textures: Vec<Texture>,
+    /// Cameras in the order of the source file's camera nodes.
+    pub cameras: Vec<Camera>,
+    /// Punctual lights.
+    pub lights: Vec<Light>,
+}
+
+/// One triangle mesh in world space (one glTF primitive instanced by one node).
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Where it came from, for messages (e.g. `node "Wheel" / mesh 3 / primitive 0`).
+    pub name: String,
+    /// World-space vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Three vertex indices per triangle, counter-clockwise front faces.
+    pub indices: Vec<[u32; 3]>,
+    /// World-space unit shading normals per vertex, if the source has them.
+    pub normals: Option<Vec<Vec3>>,
+    /// World-space tangents (xyz) with handedness (w), if the source has them.
+    pub tangents: Option<Vec<Vec4>>,
+    /// TEXCOORD_0 and TEXCOORD_1.
+    pub texcoords: [Option<Vec<Vec2>>; 2],
+    /// COLOR_0 as linear RGBA.
+    pub colors: Option<Vec<Vec4>>,
+    /// Index into `Scene::materials`.
+    pub material: usize,
+}
+
+/// A surface material, from glTF's metallic-roughness model. See the README for how it maps
+/// to glint's BRDFs: [`Material::diffuse_weight`] and [`Material::mirror_weight`].
+#[derive(Clone, Debug)]
+pub struct Material {
+    /// Name, for messages.
+    pub name: String,
+    /// Linear base colour factor (RGBA).
+    pub base_color: Vec4,
+    /// Base colour texture (sRGB-encoded in the file, decoded to linear at load).
+    pub base_color_texture: Option<TextureRef>,
+    /// Metalness in [0, 1].
+    pub metallic: f32,
+    /// Perceptual roughness in [0, 1].
+    pub roughness: f32,
+    /// Emitted radiance factor (W/(m²·sr)), `emissiveFactor × emissive_strength`.
+    pub emissive: Vec3,
+    /// Emissive texture (sRGB in the file, linear here), multiplied by `emissive`.
+    pub emissive_texture: Option<TextureRef>,
+    /// Whether back faces are shaded (otherwise they render black, as glTF specifies).
+    pub double_sided: bool,
+}
+
+/// Roughness at or below which a metallic surface is a perfect mirror.
+pub const MIRROR_MAX_ROUGHNESS: f32 = 0.0;
+
+impl Default for Material {
+    fn default() -> Self {
+        // glTF's default material: white, fully metallic, fully rough, single-sided.
+        Self {
+            name: "default".into(),
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            metallic: 1.0,
+            roughness: 1.0,
+            emissive: Vec3::ZERO,
+            emissive_texture: None,
+            double_sided: false,
+        }
+    }
+}
+
+impl Material {
+    /// Whether the metallic part is a perfect mirror (roughness at most
+    /// [`MIRROR_MAX_ROUGHNESS`]) rather than diffuse.
+    pub fn has_mirror_lobe(&self) -> bool {
+        self.metallic > 0.0 && self.roughness <= MIRROR_MAX_ROUGHNESS
+    }
+
+    /// Weight of the Lambertian lobe: the share of the base colour reflected diffusely.
+    /// `1 − metallic` for a mirror-like metal, 1 for a rough one (its metallic part is
+    /// approximated as diffuse, since glint has no glossy BRDF).
+    pub fn diffuse_weight(&self) -> f32 {
+        if self.has_mirror_lobe() {
+            1.0 - self.metallic
+        } else {
+            1.0
+        }
+    }
+
+    /// Weight of the mirror lobe: `metallic` for a mirror-like metal, else 0.
+    pub fn mirror_weight(&self) -> f32 {
+        if self.has_mirror_lobe() {
+            self.metallic
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A reference from a material to a texture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRef {
+    /// Index into `Scene::textures`.
+    pub texture: usize,
+    /// Which TEXCOORD_n set to read (0 or 1).
+    pub texcoord: usize,
+    /// KHR_texture_transform, applied to the texture coordinates (identity if absent).
+    pub transform: Affine2,
+}
+
+/// How texture coordinates outside [0, 1] wrap (glTF sampler wrap modes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum WrapMode {
+    /// Tile.
+    #[default]
+    Repeat,
+    /// Tile, mirroring every other copy.
+    MirroredRepeat,
+    /// Clamp to the edge texels.
+    ClampToEdge,
+}
+
+/// Magnification filter from the glTF sampler.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MagFilter {
+    /// Nearest texel.
+    Nearest,
+    /// Bilinear.
+    #[default]
+    Linear,
+}
+
+/// A decoded texture: linear RGBA texels, row-major, top row first.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    /// Name or URI, for messages.
+    pub name: String,
+    /// Width in texels (≥ 1).
+    pub width: u32,
+    /// Height in texels (≥ 1).
+    pub height: u32,
+    /// Linear texel values.
+    pub texels: Vec<Vec4>,
+    /// Horizontal wrap mode.
+    pub wrap_s: WrapMode,
+    /// Vertical wrap mode.
+    pub wrap_t: WrapMode,
+    /// Magnification filter.
+    pub mag_filter: MagFilter,
+}
+
+/// A camera: where it is and how it projects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    /// Name, for messages.
+    pub name: String,
+    /// Camera-to-world transform (rigid; the camera looks down its −Z with +Y up, as in glTF).
+    pub world_from_camera: Mat4,
+    /// The projection.
+    pub projection: Projection,
+}
+
+/// glTF camera projections.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Perspective with vertical field of view `yfov` (radians) and an optional aspect ratio
+    /// (width / height); without one the image's aspect is used.
+    Perspective {
+        /// Vertical field of view in radians.
+        yfov: f32,
+        /// Width / height, if the file fixes it.
+        aspect_ratio: Option<f32>,
+    },
+    /// Orthographic with half-width `xmag` and half-height `ymag` in scene units.
+    Orthographic {
+        /// Half the view's width.
+        xmag: f32,
+        /// Half the view's height.
+        ymag: f32,
+    },
+}
+
+/// A punctual light (KHR_lights_punctual) in radiometric units.
+///
+/// glTF's `intensity` is taken as radiant intensity I in W/sr for point and spot lights and as
+/// irradiance E in W/m² (on a surface facing the light) for directional lights; `color ×
+/// intensity` is stored here. A point light's flux is Φ = 4πI.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Light {
+    /// Emits I (W/sr) equally in all directions.
+    Point {
+        /// World-space position.
+        position: Vec3,
+        /// Radiant intensity per channel, W/sr.
+        intensity: Vec3,
+        /// Distance beyond which the light has no effect (KHR_lights_punctual `range`).
+        range: Option<f32>,
+    },
+    /// A point light restricted to a cone with a smooth falloff between the inner and outer
+    /// cone angles.
+    Spot {
+        /// World-space position.
+        position: Vec3,
+        /// Unit direction the cone points to.
+        direction: Vec3,
+        /// Radiant intensity on the axis, W/sr.
+        intensity: Vec3,
+        /// Distance beyond which the light has no effect.
+        range: Option<f32>,
+        /// cos(innerConeAngle): full intensity inside.
+        cos_inner: f32,
+        /// cos(outerConeAngle): zero outside.
+        cos_outer: f32,
+    },
+    /// A light at infinity.
+    Directional {
+        /// Unit direction the light travels.
+        direction: Vec3,
+        /// Irradiance on a surface facing the light, W/m², per channel.
+        irradiance: Vec3,
+    },
+}
+
+impl Scene {
+    /// Axis-aligned bounds of all vertices, or `None` for an empty scene.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut points = self.meshes.iter().flat_map(|m| m.positions.iter().copied());
+        let first = points.next()?;
+        Some(points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+    }
+
+    /// Total triangle count.
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.indices.len()).sum()
+    }
+
+    /// The meshes as the ray backends take them.
+    pub fn triangle_meshes(&self) -> Vec<crate::accel::TriangleMesh<'_>> {
+        self.meshes
+            .iter()
+            .map(|m| crate::accel::TriangleMesh {
+                positions: &m.positions,
+                indices: &m.indices,
+            })
+            .collect()
+    }
+}
