@@ -4,8 +4,11 @@
 //! renderer never walks a hierarchy. Units: lengths in scene units (glTF metres), light
 //! intensities radiometric (see [`Light`]).
 
+pub mod defaults;
+pub mod demo;
 pub mod features;
 pub mod gltf;
+pub mod light_spec;
 
 use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
 
