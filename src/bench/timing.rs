@@ -1,0 +1,182 @@
+//! Repeated wall-clock measurements summarised by their median and spread.
+//!
+//! Machines are shared and noisy: the median of several runs resists a run slowed by another
+//! process, the min–max spread shows how noisy the machine was, and a discarded warm-up run
+//! keeps first-touch costs (page faults, lazy thread pools, cold caches) out of the figures.
+
+use serde::Serialize;
+use std::time::Instant;
+
+/// How many times to run a measured piece of work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Runs {
+    /// Runs done first and discarded.
+    pub warmup: usize,
+    /// Runs timed (at least one is always done).
+    pub timed: usize,
+}
+
+/// Wall-clock seconds of the timed runs of one piece of work.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Timing {
+    /// Median, seconds (the mean of the two middle runs for an even count).
+    pub median_s: f64,
+    /// Fastest run, seconds.
+    pub min_s: f64,
+    /// Slowest run, seconds.
+    pub max_s: f64,
+    /// Number of timed runs.
+    pub runs: usize,
+}
+
+/// A rate derived from a [`Timing`]: items per second at the median, slowest and fastest run.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Rate {
+    /// Items per second at the median time.
+    pub median: f64,
+    /// Items per second of the slowest run.
+    pub min: f64,
+    /// Items per second of the fastest run.
+    pub max: f64,
+}
+
+impl Timing {
+    /// Summarises run times in seconds; `None` for no runs or a time that is not a finite,
+    /// non-negative number.
+    pub fn from_samples(samples_s: &[f64]) -> Option<Self> {
+        if samples_s.is_empty() || samples_s.iter().any(|s| !s.is_finite() || *s < 0.0) {
+            return None;
+        }
+        let mut sorted = samples_s.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let n = sorted.len();
+        let median_s = if n % 2 == 1 {
+            sorted[n / 2]
+        } else {
+            0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+        };
+        Some(Self {
+            median_s,
+            min_s: sorted[0],
+            max_s: sorted[n - 1],
+            runs: n,
+        })
+    }
+
+    /// `items` per second: at the median time, and at the slowest and fastest run.
+    pub fn rate(&self, items: f64) -> Rate {
+        Rate {
+            median: items / self.median_s,
+            min: items / self.max_s,
+            max: items / self.min_s,
+        }
+    }
+}
+
+impl Rate {
+    /// The same rate in millions per second.
+    pub fn in_millions(&self) -> Rate {
+        Rate {
+            median: self.median * 1e-6,
+            min: self.min * 1e-6,
+            max: self.max * 1e-6,
+        }
+    }
+}
+
+/// What a measurement gives: the timing and the value of the last run (e.g. the structure
+/// built, or a count to check).
+#[derive(Debug)]
+pub struct Timed<T> {
+    /// Times of the timed runs.
+    pub timing: Timing,
+    /// What the last run returned.
+    pub last: T,
+}
+
+/// Runs `work` once to warm up, then `runs` times (at least once) timed; see [`measure`].
+pub fn median_of<T>(runs: usize, work: impl FnMut() -> T) -> Timed<T> {
+    measure(
+        Runs {
+            warmup: 1,
+            timed: runs,
+        },
+        work,
+    )
+}
+
+/// Runs `work` `runs.warmup` times untimed, then `runs.timed` times (at least once) timed.
+/// The value a run returns is dropped outside the timed region, and before the next run
+/// starts, so that freeing a large result is never counted and two never coexist.
+pub fn measure<T>(runs: Runs, mut work: impl FnMut() -> T) -> Timed<T> {
+    for _ in 0..runs.warmup {
+        drop(work());
+    }
+    let timed = runs.timed.max(1);
+    let mut samples_s = Vec::with_capacity(timed);
+    let mut last = None;
+    for _ in 0..timed {
+        drop(last.take());
+        let start = Instant::now();
+        let value = work();
+        samples_s.push(start.elapsed().as_secs_f64());
+        last = Some(value);
+    }
+    // Invariant: `timed ≥ 1` runs set `last`, and `Instant` durations are finite and
+    // non-negative, so both are present.
+    match (Timing::from_samples(&samples_s), last) {
+        (Some(timing), Some(last)) => Timed { timing, last },
+        _ => unreachable!("at least one timed run of finite, non-negative duration"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        let odd = Timing::from_samples(&[3.0, 1.0, 2.0]).unwrap();
+        assert_eq!(
+            (odd.median_s, odd.min_s, odd.max_s, odd.runs),
+            (2.0, 1.0, 3.0, 3)
+        );
+        let even = Timing::from_samples(&[4.0, 1.0, 2.0, 8.0]).unwrap();
+        assert_eq!((even.median_s, even.min_s, even.max_s), (3.0, 1.0, 8.0));
+    }
+
+    #[test]
+    fn bad_samples_give_no_timing() {
+        assert_eq!(Timing::from_samples(&[]), None);
+        assert_eq!(Timing::from_samples(&[1.0, f64::NAN]), None);
+        assert_eq!(Timing::from_samples(&[-1.0]), None);
+    }
+
+    #[test]
+    fn rate_inverts_times() {
+        let t = Timing::from_samples(&[0.5, 0.25, 1.0]).unwrap();
+        let r = t.rate(100.0);
+        assert_eq!((r.median, r.min, r.max), (200.0, 100.0, 400.0));
+        assert!((r.in_millions().median - 200.0e-6).abs() < 1e-15);
+    }
+
+    #[test]
+    fn warmup_runs_are_done_and_discarded() {
+        let mut calls = 0;
+        let timed = measure(
+            Runs {
+                warmup: 2,
+                timed: 3,
+            },
+            || {
+                calls += 1;
+                calls
+            },
+        );
+        assert_eq!(calls, 5);
+        assert_eq!(timed.timing.runs, 3);
+        assert_eq!(timed.last, 5, "the value of the last run");
+        // Zero timed runs still time one.
+        assert_eq!(median_of(0, || ()).timing.runs, 1);
+    }
+}
