@@ -85,14 +85,16 @@ pub fn framing_camera(bounds: &Bounds, points: impl IntoIterator<Item = Vec3>) -
         Vec3::NEG_Z,
         Vec3::Y,
     );
-    let camera_from_centre = at_centre.inverse();
+    // Rotate offsets from the centre rather than transform points, so that a point at the
+    // centre is exactly at the origin (and a single-point scene gets the fallback distance).
+    let camera_from_world_rotation = glam::Mat3::from_mat4(at_centre).transpose();
     let tan_half = (0.5 * FRAMING_YFOV_RAD).tan();
     // A point at (x, y, z) in those axes is at depth d − z from an eye backed off by d; it is
     // in view when |x|, |y| ≤ tan_half · (d − z), i.e. d ≥ z + max(|x|, |y|) / tan_half.
     let distance = points
         .into_iter()
         .map(|point| {
-            let p = camera_from_centre.transform_point3(point);
+            let p = camera_from_world_rotation * (point - centre);
             p.z + p.x.abs().max(p.y.abs()) / tan_half
         })
         .fold(0.0f32, f32::max);
