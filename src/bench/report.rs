@@ -212,8 +212,10 @@ pub struct RaysReport {
     pub width: u32,
     /// Camera-ray image height, pixels.
     pub height: u32,
-    /// Warm-up and timed runs per measurement.
+    /// Warm-up and timed runs (at most) per query figure.
     pub runs: Runs,
+    /// Runs (at most) per build figure.
+    pub build_runs: Runs,
     /// Per scene.
     pub scenes: Vec<SceneReport>,
 }
@@ -306,6 +308,17 @@ fn sig3(x: f64) -> String {
     format!("{x:.decimals$}")
 }
 
+/// "5 runs", or "up to 5 runs (fewer once a query's runs reach 2 s)".
+fn describe_runs(what: &str, runs: &Runs) -> String {
+    match runs.budget_s {
+        Some(budget) if runs.timed > 1 => format!(
+            "up to {} timed runs (fewer once a {what}'s runs reach {budget} s)",
+            runs.timed
+        ),
+        _ => format!("{} timed run(s)", runs.timed.max(1)),
+    }
+}
+
 fn fmt_rate(rate: &Rate) -> String {
     format!(
         "{} ({}–{})",
@@ -340,13 +353,18 @@ impl RaysReport {
         // Writing to a String cannot fail.
         let _ = writeln!(
             out,
-            "glint {} bench rays: Embree {embree}; {} hardware threads; threads measured {:?}; \
-             {} warm-up + {} timed runs per figure: median (min–max).",
+            "glint {} bench rays: Embree {embree}; {} hardware threads; threads measured {:?}.\n\
+             Each figure: median (min–max) of {}; queries after {} discarded warm-up run(s).",
             self.glint_version,
             self.available_threads,
             self.threads,
+            describe_runs("query", &self.runs),
             self.runs.warmup,
-            self.runs.timed,
+        );
+        let _ = writeln!(
+            out,
+            "Builds: median (min–max) of {}.",
+            describe_runs("build", &self.build_runs)
         );
         for scene in &self.scenes {
             scene.write_table(&mut out, self);
@@ -378,11 +396,12 @@ impl SceneReport {
         );
         let _ = writeln!(
             out,
-            "{:<7} {:<7} {:<6} {:<22} {:<22} {:<22} {:<22} {:<22}",
+            "{:<7} {:<7} {:<6} {:<22} {:>4} {:<22} {:<22} {:<22} {:<22}",
             "backend",
             "quality",
             "robust",
             "build s",
+            "runs",
             "coherent closest",
             "coherent occluded",
             "incoherent closest",
@@ -398,11 +417,12 @@ impl SceneReport {
             };
             let _ = writeln!(
                 out,
-                "{:<7} {:<7} {:<6} {:<22} {:<22} {:<22} {:<22} {:<22}",
+                "{:<7} {:<7} {:<6} {:<22} {:>4} {:<22} {:<22} {:<22} {:<22}",
                 build.backend,
                 build.quality,
                 if build.robust { "yes" } else { "no" },
                 fmt_timing(&build.build_s),
+                build.build_s.runs,
                 rate(Workload::Coherent, Query::Closest),
                 rate(Workload::Coherent, Query::Occluded),
                 rate(Workload::Incoherent, Query::Closest),

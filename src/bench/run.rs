@@ -9,33 +9,47 @@ use super::scene::BenchScene;
 use super::structure::{Method, Structure};
 use super::timing::{Runs, measure};
 use crate::accel::{
-    self, AccelError, BackendKind, BuildOptions, BuildQuality, Coherence, Hit, Ray,
+    self, AccelError, BackendKind, BuildOptions, BuildQuality, Coherence, Hit, Ray, TriangleMesh,
 };
+use glam::Vec3;
 use rayon::ThreadPool;
 
 /// Seed of the random rays: fixed, so every run and every machine traces the same rays.
 pub const RAY_SEED: u64 = 0x0067_6c69_6e74;
 
 /// What to measure and how often.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RaysConfig {
     /// Width of the camera-ray image, pixels.
     pub width: u32,
     /// Height of the camera-ray image, pixels. The incoherent workload traces as many random
     /// rays as the image has pixels, so both workloads count the same rays.
     pub height: u32,
-    /// Warm-up and timed runs of every measurement.
+    /// Warm-up and timed runs of every ray query.
     pub runs: Runs,
+    /// Runs of every build. Builds need no warm-up of their own: each starts from fresh
+    /// memory, and the backend's one-time start-up (Embree's device and threads) is done by a
+    /// tiny build before any is timed.
+    pub build_runs: Runs,
     /// The larger thread count (the smaller is always 1).
     pub threads: usize,
     /// Seed of the random rays.
     pub seed: u64,
 }
 
+/// Time budget of one ray-query figure in [`RaysConfig::full`], seconds: five runs of
+/// 786k rays fit in it down to about 2 Mrays/s; slower figures (obvhs, incoherent, one
+/// thread) get fewer runs.
+const QUERY_BUDGET_S: f64 = 2.0;
+
+/// Time budget of one build figure in [`RaysConfig::full`], seconds: enough for five runs of
+/// every Embree setting over a million triangles, while obvhs's slowest preset (tens of
+/// seconds on two cores) gets one.
+const BUILD_BUDGET_S: f64 = 8.0;
+
 impl RaysConfig {
-    /// The benchmark proper: 1024 × 768 rays per measurement, one warm-up and five timed runs,
-    /// one thread per hardware thread. The default `glint bench rays` run on two cores takes
-    /// a few minutes.
+    /// The benchmark proper: 1024 × 768 rays per figure; five timed runs after one warm-up,
+    /// fewer for figures that exceed their time budget; one thread per hardware thread.
     pub fn full() -> Self {
         Self {
             width: 1024,
@@ -43,6 +57,12 @@ impl RaysConfig {
             runs: Runs {
                 warmup: 1,
                 timed: 5,
+                budget_s: Some(QUERY_BUDGET_S),
+            },
+            build_runs: Runs {
+                warmup: 0,
+                timed: 5,
+                budget_s: Some(BUILD_BUDGET_S),
             },
             threads: available_threads(),
             seed: RAY_SEED,
@@ -54,12 +74,17 @@ impl RaysConfig {
         Self {
             width: 64,
             height: 48,
-            runs: Runs {
-                warmup: 0,
-                timed: 1,
-            },
+            runs: Runs::exactly(0, 1),
+            build_runs: Runs::exactly(0, 1),
             ..Self::full()
         }
+    }
+
+    /// Sets the number of timed runs of queries and builds alike.
+    pub fn with_timed_runs(mut self, timed: usize) -> Self {
+        self.runs.timed = timed;
+        self.build_runs.timed = timed;
+        self
     }
 
     /// Rays per measurement.
@@ -194,6 +219,7 @@ pub fn run_rays(
         width: config.width,
         height: config.height,
         runs: config.runs,
+        build_runs: config.build_runs,
         scenes,
     })
 }
@@ -361,6 +387,25 @@ impl Subject<'_> {
     }
 }
 
+/// Builds a one-triangle structure, so that a backend's one-time start-up (Embree creates its
+/// device and thread pool on first use) is not counted in the first timed build.
+fn warm_up_backend(kind: BackendKind, scene: &BenchScene, pool: &Pool) -> Result<(), BenchError> {
+    let positions = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    let indices = [[0, 1, 2]];
+    let triangle = [TriangleMesh {
+        positions: &positions,
+        indices: &indices,
+    }];
+    pool.pool
+        .install(|| Structure::build(kind, &triangle, BuildOptions::default()))
+        .map(drop)
+        .map_err(|source| BenchError::Build {
+            scene: scene.name.clone(),
+            backend: kind,
+            source,
+        })
+}
+
 fn bench_scene(
     scene: &BenchScene,
     config: &RaysConfig,
@@ -401,12 +446,17 @@ fn bench_scene(
                 options.quality.name(),
                 if options.robust { " robust" } else { "" }
             );
+            if options == build_variants(kind)[0] {
+                warm_up_backend(kind, scene, widest)?;
+            }
             progress(&format!("{label}: building"));
             // obvhs builds on the current rayon pool, so on the widest; Embree on its own
             // threads, one per hardware thread, whatever the pool.
-            let built = widest
-                .pool
-                .install(|| measure(config.runs, || Structure::build(kind, &meshes, options)));
+            let built = widest.pool.install(|| {
+                measure(config.build_runs, || {
+                    Structure::build(kind, &meshes, options)
+                })
+            });
             let structure = built.last.map_err(|source| BenchError::Build {
                 scene: name.clone(),
                 backend: kind,

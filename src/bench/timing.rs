@@ -8,12 +8,27 @@ use serde::Serialize;
 use std::time::Instant;
 
 /// How many times to run a measured piece of work.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Runs {
     /// Runs done first and discarded.
     pub warmup: usize,
     /// Runs timed (at least one is always done).
     pub timed: usize,
+    /// Seconds after which no further timed run starts, once one is done: slow work (a
+    /// 20-second build) then gets fewer runs instead of stretching the benchmark to minutes.
+    /// `None`: always `timed` runs.
+    pub budget_s: Option<f64>,
+}
+
+impl Runs {
+    /// `timed` runs after `warmup`, with no time budget.
+    pub fn exactly(warmup: usize, timed: usize) -> Self {
+        Self {
+            warmup,
+            timed,
+            budget_s: None,
+        }
+    }
 }
 
 /// Wall-clock seconds of the timed runs of one piece of work.
@@ -96,38 +111,38 @@ pub struct Timed<T> {
 
 /// Runs `work` once to warm up, then `runs` times (at least once) timed; see [`measure`].
 pub fn median_of<T>(runs: usize, work: impl FnMut() -> T) -> Timed<T> {
-    measure(
-        Runs {
-            warmup: 1,
-            timed: runs,
-        },
-        work,
-    )
+    measure(Runs::exactly(1, runs), work)
 }
 
-/// Runs `work` `runs.warmup` times untimed, then `runs.timed` times (at least once) timed.
-/// The value a run returns is dropped outside the timed region, and before the next run
-/// starts, so that freeing a large result is never counted and two never coexist.
+/// Runs `work` `runs.warmup` times untimed, then `runs.timed` times (at least once) timed,
+/// stopping early once the timed runs have taken `runs.budget_s`. The value a run returns is
+/// dropped outside the timed region, and before the next run starts, so that freeing a large
+/// result is never counted and two never coexist.
 pub fn measure<T>(runs: Runs, mut work: impl FnMut() -> T) -> Timed<T> {
     for _ in 0..runs.warmup {
         drop(work());
     }
-    let timed = runs.timed.max(1);
-    let mut samples_s = Vec::with_capacity(timed);
-    let mut last = None;
-    for _ in 0..timed {
-        drop(last.take());
+    let mut timed_run = || {
         let start = Instant::now();
         let value = work();
-        samples_s.push(start.elapsed().as_secs_f64());
-        last = Some(value);
+        (start.elapsed().as_secs_f64(), value)
+    };
+    let (first_s, mut last) = timed_run();
+    let mut samples_s = vec![first_s];
+    while samples_s.len() < runs.timed {
+        let spent_s: f64 = samples_s.iter().sum();
+        if runs.budget_s.is_some_and(|budget| spent_s >= budget) {
+            break;
+        }
+        drop(last);
+        let (run_s, value) = timed_run();
+        samples_s.push(run_s);
+        last = value;
     }
-    // Invariant: `timed ≥ 1` runs set `last`, and `Instant` durations are finite and
-    // non-negative, so both are present.
-    match (Timing::from_samples(&samples_s), last) {
-        (Some(timing), Some(last)) => Timed { timing, last },
-        _ => unreachable!("at least one timed run of finite, non-negative duration"),
-    }
+    // Proven invariant: there is at least one sample, and `Duration::as_secs_f64` is finite
+    // and non-negative.
+    let timing = Timing::from_samples(&samples_s).expect("one or more valid durations");
+    Timed { timing, last }
 }
 
 #[cfg(test)]
@@ -163,20 +178,32 @@ mod tests {
     #[test]
     fn warmup_runs_are_done_and_discarded() {
         let mut calls = 0;
-        let timed = measure(
-            Runs {
-                warmup: 2,
-                timed: 3,
-            },
-            || {
-                calls += 1;
-                calls
-            },
-        );
+        let timed = measure(Runs::exactly(2, 3), || {
+            calls += 1;
+            calls
+        });
         assert_eq!(calls, 5);
         assert_eq!(timed.timing.runs, 3);
         assert_eq!(timed.last, 5, "the value of the last run");
         // Zero timed runs still time one.
         assert_eq!(median_of(0, || ()).timing.runs, 1);
+    }
+
+    #[test]
+    fn a_spent_budget_stops_further_runs_but_never_the_first() {
+        let sleep = || std::thread::sleep(std::time::Duration::from_millis(2));
+        // A zero budget is spent by the first run, whatever the machine's speed.
+        let zero = Runs {
+            warmup: 1,
+            timed: 5,
+            budget_s: Some(0.0),
+        };
+        assert_eq!(measure(zero, sleep).timing.runs, 1);
+        // A budget no run can spend allows them all.
+        let ample = Runs {
+            budget_s: Some(1e9),
+            ..zero
+        };
+        assert_eq!(measure(ample, sleep).timing.runs, 5);
     }
 }

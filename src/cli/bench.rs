@@ -17,10 +17,11 @@ pub struct RaysArgs {
     /// files. None: every built-in.
     #[arg(value_name = "SCENE")]
     pub scenes: Vec<String>,
-    /// Print the report as JSON (every figure) instead of tables.
+    /// Print the report as JSON (every figure) on stdout; the tables then go to stderr.
     #[arg(long)]
     pub json: bool,
-    /// Timed runs per figure (after one discarded warm-up run). Default 5; 1 with --quick.
+    /// Timed runs per figure (queries after one discarded warm-up run). Default 5, fewer for a
+    /// figure whose runs exceed a few seconds; 1 with --quick.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub runs: Option<u32>,
     /// Smoke test: built-ins of about 5k triangles, 64×48 rays, one run, no warm-up.
@@ -46,7 +47,7 @@ impl RaysArgs {
             RaysConfig::full()
         };
         if let Some(runs) = self.runs {
-            config.runs.timed = runs as usize;
+            config = config.with_timed_runs(runs as usize);
         }
         if let Some(threads) = self.threads {
             config.threads = threads as usize;
@@ -86,12 +87,14 @@ pub fn run(cmd: BenchCommand) -> Result<(), CliError> {
             let scenes = args.scenes()?;
             let report = run_rays(&scenes, &config, &mut |line| eprintln!("{line}"))
                 .map_err(CliError::from_display)?;
-            let text = if args.json {
-                report.to_json().map_err(CliError::from_display)?
+            if args.json {
+                // The tables still reach a person watching the terminal while stdout goes
+                // to a file or a pipe.
+                eprintln!("{}", report.to_table());
+                println!("{}", report.to_json().map_err(CliError::from_display)?);
             } else {
-                report.to_table()
-            };
-            println!("{text}");
+                println!("{}", report.to_table());
+            }
             Ok(())
         }
     }
@@ -132,7 +135,7 @@ mod tests {
         .unwrap();
         assert_eq!(args.scenes, ["sphere", "x.glb"]);
         let config = args.config();
-        assert_eq!(config.runs.timed, 3);
+        assert_eq!((config.runs.timed, config.build_runs.timed), (3, 3));
         assert_eq!(config.runs.warmup, RaysConfig::quick().runs.warmup);
         assert_eq!(
             (config.threads, config.width, config.height),
