@@ -7,7 +7,7 @@ use super::report::{
 };
 use super::scene::BenchScene;
 use super::structure::{Method, Structure};
-use super::timing::{Runs, measure};
+use super::timing::{Runs, Timing, measure_interleaved};
 use crate::accel::{
     self, AccelError, BackendKind, BuildOptions, BuildQuality, Coherence, Hit, Ray, TriangleMesh,
 };
@@ -252,14 +252,12 @@ pub fn build_variants(kind: BackendKind) -> Vec<BuildOptions> {
         .collect()
 }
 
-/// The rays of one scene and the buffers their answers go to.
+/// The rays of one scene.
 struct Workloads {
     camera: Vec<Ray>,
     random: Vec<Ray>,
     /// `random` cut to finite lengths, for occlusion.
     random_segments: Vec<Ray>,
-    hits: Vec<Option<Hit>>,
-    occluded: Vec<bool>,
 }
 
 impl Workloads {
@@ -275,135 +273,187 @@ impl Workloads {
     }
 }
 
-/// One backend's built structure and what is being measured on it.
-struct Subject<'a> {
-    structure: &'a Structure,
+/// A structure built with one setting, and how long building it took.
+struct Built {
     kind: BackendKind,
-    runs: Runs,
+    options: BuildOptions,
+    structure: Structure,
+    build_s: Timing,
 }
 
-impl Subject<'_> {
-    /// Times one query of one workload with `method` on `pool`; the answers stay in `work`'s
-    /// buffers for the caller to check.
-    fn trace(
-        &self,
-        method: Method,
-        workload: Workload,
-        query: Query,
-        work: &mut Workloads,
-        pool: &Pool,
-    ) -> QueryReport {
-        let coherence = match workload {
-            Workload::Coherent => Coherence::Coherent,
-            Workload::Incoherent => Coherence::Incoherent,
-        };
-        // Split the borrows: the rays are read while the answers are written.
-        let Workloads {
-            camera,
-            random,
-            random_segments,
-            hits,
-            occluded,
-        } = work;
-        let rays = match (workload, query) {
-            (Workload::Coherent, _) => camera,
-            (Workload::Incoherent, Query::Closest) => random,
-            (Workload::Incoherent, Query::Occluded) => random_segments,
-        };
-        let structure = self.structure;
-        let (timing, positives) = match query {
-            Query::Closest => {
-                let hits = &mut hits[..rays.len()];
-                let timed = pool.pool.install(|| {
-                    measure(self.runs, || {
-                        structure.closest(method, rays, hits, coherence)
-                    })
-                });
-                (timed.timing, hits.iter().filter(|h| h.is_some()).count())
-            }
-            Query::Occluded => {
-                let out = &mut occluded[..rays.len()];
-                let timed = pool.pool.install(|| {
-                    measure(self.runs, || {
-                        structure.occluded(method, rays, out, coherence)
-                    })
-                });
-                (timed.timing, out.iter().filter(|&&o| o).count())
-            }
-        };
-        QueryReport {
-            backend: self.kind.name().to_string(),
-            method,
-            workload,
-            query,
-            threads: pool.threads,
-            rays: rays.len(),
-            positives,
-            seconds: timing,
-            mrays_per_s: timing.rate(rays.len() as f64).in_millions(),
-        }
-    }
+/// One way to trace rays: a built structure, a method, and the pool to trace on.
+#[derive(Clone, Copy)]
+struct Tracer<'a> {
+    built: &'a Built,
+    method: Method,
+    pool: &'a Pool,
+}
 
-    /// Every method, workload, query and thread count; and, per method and workload, the
-    /// check that occlusion agrees with the closest hits of the same rays.
-    fn trace_matrix(
-        &self,
-        work: &mut Workloads,
-        pools: &Pools,
-    ) -> (Vec<QueryReport>, Vec<ConsistencyReport>) {
-        let mut queries = Vec::new();
-        let mut checks = Vec::new();
-        for &method in self.structure.methods() {
-            for workload in Workload::ALL {
-                let mut check = ConsistencyReport {
-                    backend: self.kind.name().to_string(),
-                    method,
-                    workload,
-                    rays: work.rays(workload, Query::Closest).len(),
-                    closest_hits: 0,
-                    closest_hits_within_tfar: 0,
-                    occluded: 0,
-                };
-                for pool in pools.iter() {
-                    let closest = self.trace(method, workload, Query::Closest, work, pool);
-                    // What occlusion must find: the closest hits no farther than the
-                    // occlusion ray's end.
-                    check.closest_hits = closest.positives;
-                    check.closest_hits_within_tfar = work
-                        .hits
-                        .iter()
-                        .zip(work.rays(workload, Query::Occluded))
-                        .filter(|(hit, ray)| hit.is_some_and(|h| h.t <= ray.tfar))
-                        .count();
-                    queries.push(closest);
-                    let occluded = self.trace(method, workload, Query::Occluded, work, pool);
-                    check.occluded = occluded.positives;
-                    queries.push(occluded);
-                }
-                checks.push(check);
-            }
+/// What one tracer answered in one batch.
+struct Traced {
+    report: QueryReport,
+    /// For closest hits: how many lie within the `tfar` of the workload's occlusion rays.
+    hits_within_occlusion_tfar: Option<usize>,
+}
+
+/// Traces one workload's query with every tracer, interleaved run by run (see
+/// [`measure_interleaved`]) so that the ratios between them survive a noisy machine.
+fn trace_batch(
+    tracers: &[Tracer<'_>],
+    workload: Workload,
+    query: Query,
+    work: &Workloads,
+    runs: Runs,
+) -> Vec<Traced> {
+    let rays = work.rays(workload, query);
+    let coherence = match workload {
+        Workload::Coherent => Coherence::Coherent,
+        Workload::Incoherent => Coherence::Incoherent,
+    };
+    // Every tracer answers into its own buffer, counted once the timing is over.
+    let (timings, positives, within) = match query {
+        Query::Closest => {
+            let mut buffers = vec![vec![None::<Hit>; rays.len()]; tracers.len()];
+            let mut works: Vec<Box<dyn FnMut() + '_>> = tracers
+                .iter()
+                .zip(buffers.iter_mut())
+                .map(|(tracer, hits)| {
+                    let tracer = *tracer;
+                    Box::new(move || {
+                        tracer.pool.pool.install(|| {
+                            tracer
+                                .built
+                                .structure
+                                .closest(tracer.method, rays, hits, coherence)
+                        })
+                    }) as Box<dyn FnMut()>
+                })
+                .collect();
+            let timings = measure_interleaved(runs, &mut works);
+            drop(works);
+            let occlusion_rays = work.rays(workload, Query::Occluded);
+            let positives = buffers
+                .iter()
+                .map(|hits| hits.iter().filter(|h| h.is_some()).count())
+                .collect::<Vec<_>>();
+            let within = buffers
+                .iter()
+                .map(|hits| {
+                    Some(
+                        hits.iter()
+                            .zip(occlusion_rays)
+                            .filter(|(hit, ray)| hit.is_some_and(|h| h.t <= ray.tfar))
+                            .count(),
+                    )
+                })
+                .collect::<Vec<_>>();
+            (timings, positives, within)
         }
-        (queries, checks)
-    }
+        Query::Occluded => {
+            let mut buffers = vec![vec![false; rays.len()]; tracers.len()];
+            let mut works: Vec<Box<dyn FnMut() + '_>> = tracers
+                .iter()
+                .zip(buffers.iter_mut())
+                .map(|(tracer, out)| {
+                    let tracer = *tracer;
+                    Box::new(move || {
+                        tracer.pool.pool.install(|| {
+                            tracer
+                                .built
+                                .structure
+                                .occluded(tracer.method, rays, out, coherence)
+                        })
+                    }) as Box<dyn FnMut()>
+                })
+                .collect();
+            let timings = measure_interleaved(runs, &mut works);
+            drop(works);
+            let positives = buffers
+                .iter()
+                .map(|out| out.iter().filter(|&&o| o).count())
+                .collect::<Vec<_>>();
+            (timings, positives, vec![None; tracers.len()])
+        }
+    };
+    tracers
+        .iter()
+        .zip(timings)
+        .zip(positives.into_iter().zip(within))
+        .map(|((tracer, timed), (positives, within))| Traced {
+            report: QueryReport {
+                backend: tracer.built.kind.name().to_string(),
+                method: tracer.method,
+                workload,
+                query,
+                threads: tracer.pool.threads,
+                rays: rays.len(),
+                positives,
+                seconds: timed.timing,
+                mrays_per_s: timed.timing.rate(rays.len() as f64).in_millions(),
+            },
+            hits_within_occlusion_tfar: within,
+        })
+        .collect()
 }
 
 /// Builds a one-triangle structure, so that a backend's one-time start-up (Embree creates its
 /// device and thread pool on first use) is not counted in the first timed build.
-fn warm_up_backend(kind: BackendKind, scene: &BenchScene, pool: &Pool) -> Result<(), BenchError> {
+fn warm_up_backend(kind: BackendKind, scene: &BenchScene) -> Result<(), BenchError> {
     let positions = [Vec3::ZERO, Vec3::X, Vec3::Y];
     let indices = [[0, 1, 2]];
     let triangle = [TriangleMesh {
         positions: &positions,
         indices: &indices,
     }];
-    pool.pool
-        .install(|| Structure::build(kind, &triangle, BuildOptions::default()))
+    Structure::build(kind, &triangle, BuildOptions::default())
         .map(drop)
         .map_err(|source| BenchError::Build {
             scene: scene.name.clone(),
             backend: kind,
             source,
         })
+}
+
+/// Builds every setting of every backend, interleaved run by run, on the widest pool (obvhs
+/// builds on the current rayon pool; Embree on its own threads, one per hardware thread).
+fn build_all(
+    scene: &BenchScene,
+    meshes: &[TriangleMesh<'_>],
+    config: &RaysConfig,
+    pools: &Pools,
+) -> Result<Vec<Built>, BenchError> {
+    let variants: Vec<(BackendKind, BuildOptions)> = BackendKind::available()
+        .iter()
+        .flat_map(|&kind| build_variants(kind).into_iter().map(move |o| (kind, o)))
+        .collect();
+    for &kind in BackendKind::available() {
+        warm_up_backend(kind, scene)?;
+    }
+    let mut works: Vec<_> = variants
+        .iter()
+        .map(|&(kind, options)| move || Structure::build(kind, meshes, options))
+        .collect();
+    let timed = pools
+        .widest()
+        .pool
+        .install(|| measure_interleaved(config.build_runs, &mut works));
+    variants
+        .iter()
+        .zip(timed)
+        .map(|(&(kind, options), timed)| {
+            let structure = timed.last.map_err(|source| BenchError::Build {
+                scene: scene.name.clone(),
+                backend: kind,
+                source,
+            })?;
+            Ok(Built {
+                kind,
+                options,
+                structure,
+                build_s: timed.timing,
+            })
+        })
+        .collect()
 }
 
 fn bench_scene(
@@ -428,79 +478,110 @@ fn bench_scene(
         rays::framing_camera(&bounds, vertices)
     });
     let n = config.ray_count();
-    let mut work = Workloads {
+    let work = Workloads {
         camera: rays::camera_rays(&camera, config.width, config.height),
         random: rays::random_rays(&bounds, n, config.seed),
         random_segments: rays::random_segments(&bounds, n, config.seed),
-        hits: vec![None; n],
-        occluded: vec![false; n],
     };
+
+    let variants: usize = BackendKind::available()
+        .iter()
+        .map(|&k| build_variants(k).len())
+        .sum();
+    progress(&format!(
+        "{name}: building {variants} settings, interleaved"
+    ));
+    let builds = build_all(scene, &meshes, config, pools)?;
+
+    // What each build setting gives: every query with the most threads and the backend's
+    // default method, all settings interleaved.
+    progress(&format!("{name}: tracing every build setting"));
     let widest = pools.widest();
-    let mut builds = Vec::new();
-    let mut queries = Vec::new();
-    let mut consistency = Vec::new();
-    for &kind in BackendKind::available() {
-        for options in build_variants(kind) {
-            let label = format!(
-                "{name}: {kind} {}{}",
-                options.quality.name(),
-                if options.robust { " robust" } else { "" }
-            );
-            if options == build_variants(kind)[0] {
-                warm_up_backend(kind, scene, widest)?;
+    let trade_tracers: Vec<Tracer<'_>> = builds
+        .iter()
+        .map(|built| Tracer {
+            built,
+            method: built.structure.default_method(),
+            pool: widest,
+        })
+        .collect();
+    let mut trade: Vec<Vec<QueryReport>> = vec![Vec::new(); builds.len()];
+    for workload in Workload::ALL {
+        for query in Query::ALL {
+            let traced = trace_batch(&trade_tracers, workload, query, &work, config.runs);
+            for (rows, traced) in trade.iter_mut().zip(traced) {
+                rows.push(traced.report);
             }
-            progress(&format!("{label}: building"));
-            // obvhs builds on the current rayon pool, so on the widest; Embree on its own
-            // threads, one per hardware thread, whatever the pool.
-            let built = widest.pool.install(|| {
-                measure(config.build_runs, || {
-                    Structure::build(kind, &meshes, options)
-                })
-            });
-            let structure = built.last.map_err(|source| BenchError::Build {
-                scene: name.clone(),
-                backend: kind,
-                source,
-            })?;
-            let subject = Subject {
-                structure: &structure,
-                kind,
-                runs: config.runs,
-            };
-            let method = structure.default_method();
-            let is_default = options == BuildOptions::default();
-            let trade = if is_default {
-                progress(&format!(
-                    "{label}: tracing every method with {:?} threads",
-                    config.thread_counts()
-                ));
-                let (matrix, checks) = subject.trace_matrix(&mut work, pools);
-                let trade = matrix
-                    .iter()
-                    .filter(|q| q.method == method && q.threads == widest.threads)
-                    .cloned()
-                    .collect();
-                queries.extend(matrix);
-                consistency.extend(checks);
-                trade
-            } else {
-                progress(&format!("{label}: tracing"));
-                Workload::ALL
-                    .into_iter()
-                    .flat_map(|w| Query::ALL.into_iter().map(move |q| (w, q)))
-                    .map(|(w, q)| subject.trace(method, w, q, &mut work, widest))
-                    .collect()
-            };
-            builds.push(BuildReport {
-                backend: kind.name().to_string(),
-                quality: options.quality.name().to_string(),
-                robust: options.robust,
-                is_default,
-                build_s: built.timing,
-                queries: trade,
-            });
         }
     }
+
+    // The full matrix on the default builds: every method and thread count, interleaved.
+    progress(&format!(
+        "{name}: tracing every method with {:?} threads",
+        config.thread_counts()
+    ));
+    let matrix_tracers: Vec<Tracer<'_>> = builds
+        .iter()
+        .filter(|b| b.options == BuildOptions::default())
+        .flat_map(|built| {
+            built.structure.methods().iter().flat_map(move |&method| {
+                pools.iter().map(move |pool| Tracer {
+                    built,
+                    method,
+                    pool,
+                })
+            })
+        })
+        .collect();
+    let mut queries = Vec::new();
+    let mut consistency = Vec::new();
+    for workload in Workload::ALL {
+        let closest = trace_batch(
+            &matrix_tracers,
+            workload,
+            Query::Closest,
+            &work,
+            config.runs,
+        );
+        let occluded = trace_batch(
+            &matrix_tracers,
+            workload,
+            Query::Occluded,
+            &work,
+            config.runs,
+        );
+        for (tracer, (closest, occluded)) in
+            matrix_tracers.iter().zip(closest.iter().zip(&occluded))
+        {
+            // One check per backend and method: the answers do not depend on the pool.
+            if tracer.pool.threads == 1 {
+                consistency.push(ConsistencyReport {
+                    backend: tracer.built.kind.name().to_string(),
+                    method: tracer.method,
+                    workload,
+                    rays: closest.report.rays,
+                    closest_hits: closest.report.positives,
+                    closest_hits_within_tfar: closest.hits_within_occlusion_tfar.unwrap_or(0),
+                    occluded: occluded.report.positives,
+                });
+            }
+        }
+        queries.extend(closest.into_iter().map(|t| t.report));
+        queries.extend(occluded.into_iter().map(|t| t.report));
+    }
+
+    let builds = builds
+        .iter()
+        .zip(trade)
+        .map(|(built, queries)| BuildReport {
+            backend: built.kind.name().to_string(),
+            quality: built.options.quality.name().to_string(),
+            robust: built.options.robust,
+            is_default: built.options == BuildOptions::default(),
+            build_s: built.build_s,
+            queries,
+        })
+        .collect();
     Ok(SceneReport {
         embree_over_bvh: report::embree_over_bvh(&queries),
         packet_gains: report::packet_gains(&queries),

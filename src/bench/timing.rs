@@ -118,31 +118,58 @@ pub fn median_of<T>(runs: usize, work: impl FnMut() -> T) -> Timed<T> {
 /// stopping early once the timed runs have taken `runs.budget_s`. The value a run returns is
 /// dropped outside the timed region, and before the next run starts, so that freeing a large
 /// result is never counted and two never coexist.
-pub fn measure<T>(runs: Runs, mut work: impl FnMut() -> T) -> Timed<T> {
+pub fn measure<T>(runs: Runs, work: impl FnMut() -> T) -> Timed<T> {
+    let mut works = [work];
+    let mut timed = measure_interleaved(runs, &mut works);
+    // Proven invariant: one result per piece of work.
+    timed.pop().expect("one piece of work, one result")
+}
+
+/// Measures several pieces of work in rounds: each round runs every piece once, so that a
+/// change in the machine's load (other processes starting or stopping) hits all of them
+/// alike, and ratios between them stay meaningful on a noisy machine. Each piece gets
+/// `runs.warmup` untimed rounds, then timed rounds until it has `runs.timed` runs (at least
+/// one) or its runs have taken `runs.budget_s`. As in [`measure`], a piece's previous value is
+/// dropped before it runs again, outside the timed region. Results are in the order of
+/// `works`.
+pub fn measure_interleaved<T, W: FnMut() -> T>(runs: Runs, works: &mut [W]) -> Vec<Timed<T>> {
     for _ in 0..runs.warmup {
-        drop(work());
+        for work in works.iter_mut() {
+            drop(work());
+        }
     }
-    let mut timed_run = || {
-        let start = Instant::now();
-        let value = work();
-        (start.elapsed().as_secs_f64(), value)
-    };
-    let (first_s, mut last) = timed_run();
-    let mut samples_s = vec![first_s];
-    while samples_s.len() < runs.timed {
-        let spent_s: f64 = samples_s.iter().sum();
-        if runs.budget_s.is_some_and(|budget| spent_s >= budget) {
+    // Per piece: the times of its timed runs and the value of its latest run.
+    let mut state: Vec<(Vec<f64>, Option<T>)> = works.iter().map(|_| (Vec::new(), None)).collect();
+    loop {
+        let mut ran = false;
+        for (work, (samples_s, last)) in works.iter_mut().zip(state.iter_mut()) {
+            let spent_s: f64 = samples_s.iter().sum();
+            let done = !samples_s.is_empty()
+                && (samples_s.len() >= runs.timed
+                    || runs.budget_s.is_some_and(|budget| spent_s >= budget));
+            if done {
+                continue;
+            }
+            drop(last.take());
+            let start = Instant::now();
+            let value = work();
+            samples_s.push(start.elapsed().as_secs_f64());
+            *last = Some(value);
+            ran = true;
+        }
+        if !ran {
             break;
         }
-        drop(last);
-        let (run_s, value) = timed_run();
-        samples_s.push(run_s);
-        last = value;
     }
-    // Proven invariant: there is at least one sample, and `Duration::as_secs_f64` is finite
-    // and non-negative.
-    let timing = Timing::from_samples(&samples_s).expect("one or more valid durations");
-    Timed { timing, last }
+    state
+        .into_iter()
+        .map(|(samples_s, last)| Timed {
+            // Proven invariants: the first round runs every piece once, setting `last` and
+            // one sample; `Duration::as_secs_f64` is finite and non-negative.
+            timing: Timing::from_samples(&samples_s).expect("one or more valid durations"),
+            last: last.expect("every piece ran at least once"),
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -187,6 +214,42 @@ mod tests {
         assert_eq!(timed.last, 5, "the value of the last run");
         // Zero timed runs still time one.
         assert_eq!(median_of(0, || ()).timing.runs, 1);
+    }
+
+    #[test]
+    fn interleaved_work_runs_in_rounds_until_each_is_done() {
+        let log = std::cell::RefCell::new(Vec::new());
+        let piece = |name: char, pause_ms: u64| {
+            let log = &log;
+            move || {
+                log.borrow_mut().push(name);
+                std::thread::sleep(std::time::Duration::from_millis(pause_ms));
+                name
+            }
+        };
+        let mut works: [Box<dyn FnMut() -> char>; 2] =
+            [Box::new(piece('a', 0)), Box::new(piece('b', 1))];
+        let runs = Runs {
+            warmup: 1,
+            timed: 3,
+            budget_s: Some(0.0),
+        };
+        let zero_budget = measure_interleaved(runs, &mut works);
+        // A zero budget is spent by any first run, so each piece runs once after warm-up.
+        assert_eq!(log.borrow().as_slice(), ['a', 'b', 'a', 'b']);
+        assert_eq!(zero_budget.len(), 2);
+        assert_eq!((zero_budget[0].last, zero_budget[1].last), ('a', 'b'));
+        log.borrow_mut().clear();
+        let ample = Runs {
+            budget_s: None,
+            ..runs
+        };
+        let timed = measure_interleaved(ample, &mut works);
+        assert_eq!(
+            log.borrow().as_slice(),
+            ['a', 'b', 'a', 'b', 'a', 'b', 'a', 'b']
+        );
+        assert!(timed.iter().all(|t| t.timing.runs == 3));
     }
 
     #[test]
