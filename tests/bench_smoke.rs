@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 use glint::accel::BackendKind;
-use glint::bench::report::{Query, SceneReport, Workload};
+use glint::bench::report::{Query, QueryReport, SceneReport, Workload};
 use glint::bench::run::build_variants;
 use glint::bench::structure::Method;
 use glint::bench::timing::{Rate, Timing};
@@ -54,6 +54,24 @@ fn assert_rate_sane(rate: &Rate, what: &str) {
     assert!(rate.min <= rate.median && rate.median <= rate.max, "{what}");
 }
 
+/// Linux reports every thread's CPU time, so there the CPU figures must be present.
+const CPU_TIMES_REPORTED: bool = cfg!(target_os = "linux");
+
+fn assert_cpu_figures_sane(q: &QueryReport, what: &str) {
+    if CPU_TIMES_REPORTED {
+        assert!(q.cpu_seconds.is_some(), "{what}: no CPU time");
+    }
+    if let Some(cpu) = &q.cpu_seconds {
+        assert_timing_sane(cpu, what);
+        assert_rate_sane(&q.mrays_per_cpu_s.unwrap(), what);
+        let share = q.cpu_share.unwrap();
+        assert!(
+            share.is_finite() && share > 0.0,
+            "{what}: CPU share {share}"
+        );
+    }
+}
+
 fn check_scene(scene: &SceneReport, config: &RaysConfig) {
     let name = &scene.name;
     let rays = config.ray_count();
@@ -77,11 +95,15 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
             build.backend, build.quality, build.robust
         );
         assert_timing_sane(&build.build_s, &what);
+        if CPU_TIMES_REPORTED {
+            assert_timing_sane(&build.build_cpu_s.unwrap(), &what);
+        }
         assert_eq!(build.queries.len(), 4, "{what}");
         for q in &build.queries {
             assert_eq!(q.rays, rays, "{what}");
             assert_eq!(q.threads, config.threads, "{what}");
             assert_rate_sane(&q.mrays_per_s, &what);
+            assert_cpu_figures_sane(q, &what);
         }
     }
 
@@ -97,6 +119,7 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
         assert!(q.positives <= q.rays, "{what}");
         assert_timing_sane(&q.seconds, &what);
         assert_rate_sane(&q.mrays_per_s, &what);
+        assert_cpu_figures_sane(q, &what);
         // Mrays/s is rays over seconds.
         let implied = q.rays as f64 / q.seconds.median_s * 1e-6;
         assert!(
@@ -170,7 +193,20 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
         .iter()
         .map(|r| r.ratio)
         .chain(scene.packet_gains.iter().map(|g| g.packet8_over_single))
-        .chain(scene.scaling.iter().flat_map(|s| [s.speedup, s.efficiency]));
+        .chain(scene.scaling.iter().flat_map(|s| [s.speedup, s.efficiency]))
+        .chain(
+            scene
+                .embree_over_bvh
+                .iter()
+                .filter_map(|r| r.ratio_per_cpu_s),
+        )
+        .chain(
+            scene
+                .packet_gains
+                .iter()
+                .filter_map(|g| g.packet8_over_single_per_cpu_s),
+        )
+        .chain(scene.scaling.iter().filter_map(|s| s.cpu_efficiency));
     for x in derived {
         assert!(x.is_finite() && x > 0.0, "{name}: derived figure {x}");
     }

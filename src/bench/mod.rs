@@ -3,11 +3,13 @@
 //! - [`rays`]: deterministic ray generators (coherent camera rays in tiles, incoherent random
 //!   rays and segments), reusable by any benchmark that must trace the same rays twice.
 //! - [`timing`]: medians and spreads of repeated runs after a discarded warm-up.
+//! - [`cpu`]: the CPU time the process used, for throughput per CPU-second on a busy machine.
 //! - [`scene`]: the scenes benchmarked (built-in procedural scenes or glTF files).
 //! - [`structure`]: a built backend with its single-ray and packet entry points.
 //! - [`run`]: `bench rays` itself, measuring every build setting and query.
 //! - [`report`]: the figures as data, the ratios derived within one run, and the tables.
 
+pub mod cpu;
 pub mod rays;
 pub mod report;
 pub mod run;

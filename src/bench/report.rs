@@ -71,10 +71,52 @@ pub struct QueryReport {
     pub rays: usize,
     /// Rays that hit (closest) or were occluded (occlusion) in the last run.
     pub positives: usize,
-    /// Seconds per run.
+    /// Wall-clock seconds per run.
     pub seconds: Timing,
-    /// Millions of rays per second.
+    /// Millions of rays per wall-clock second.
     pub mrays_per_s: Rate,
+    /// CPU seconds the process used per run, where the system reports it.
+    pub cpu_seconds: Option<Timing>,
+    /// Millions of rays per CPU-second: what the code does with the processor time it gets,
+    /// which the machine's load hardly changes.
+    pub mrays_per_cpu_s: Option<Rate>,
+    /// Median CPU seconds over (median wall seconds × threads): the share of the requested
+    /// processors this query was given (1: all of them, the machine was otherwise idle).
+    pub cpu_share: Option<f64>,
+}
+
+impl QueryReport {
+    /// A report of `rays` rays traced in `seconds` (and `cpu_seconds`) with `threads` threads;
+    /// the rates and the CPU share are derived here.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        backend: &str,
+        method: Method,
+        workload: Workload,
+        query: Query,
+        threads: usize,
+        rays: usize,
+        positives: usize,
+        seconds: Timing,
+        cpu_seconds: Option<Timing>,
+    ) -> Self {
+        // A CPU time of zero (a run too short for the statistics) gives no rate.
+        let cpu_seconds = cpu_seconds.filter(|cpu| cpu.min_s > 0.0);
+        Self {
+            backend: backend.to_string(),
+            method,
+            workload,
+            query,
+            threads,
+            rays,
+            positives,
+            seconds,
+            mrays_per_s: seconds.rate(rays as f64).in_millions(),
+            mrays_per_cpu_s: cpu_seconds.map(|cpu| cpu.rate(rays as f64).in_millions()),
+            cpu_share: cpu_seconds.map(|cpu| cpu.median_s / (seconds.median_s * threads as f64)),
+            cpu_seconds,
+        }
+    }
 }
 
 /// One build setting of one backend: how long it takes to build and what its trees give.
@@ -89,8 +131,10 @@ pub struct BuildReport {
     /// Whether this is the default setting (`BuildOptions::default()`), the one the full
     /// query matrix was measured on.
     pub is_default: bool,
-    /// Build time, seconds.
+    /// Build time, wall-clock seconds.
     pub build_s: Timing,
+    /// CPU seconds the process used per build (all threads), where the system reports it.
+    pub build_cpu_s: Option<Timing>,
     /// Both workloads and both queries, with the most threads and the backend's default
     /// method (what `Accel::intersect_many` uses).
     pub queries: Vec<QueryReport>,
@@ -128,8 +172,10 @@ pub struct RatioReport {
     pub query: Query,
     /// Worker threads.
     pub threads: usize,
-    /// Median Embree Mrays/s over median obvhs Mrays/s.
+    /// Median Embree Mrays/s over median obvhs Mrays/s (wall clock).
     pub ratio: f64,
+    /// The same per CPU-second, where both have CPU times.
+    pub ratio_per_cpu_s: Option<f64>,
 }
 
 /// Embree's 8-wide packets over its single rays, measured in the same run.
@@ -141,8 +187,10 @@ pub struct PacketGainReport {
     pub query: Query,
     /// Worker threads.
     pub threads: usize,
-    /// Median packet Mrays/s over median single-ray Mrays/s (> 1: packets win).
+    /// Median packet Mrays/s over median single-ray Mrays/s (> 1: packets win; wall clock).
     pub packet8_over_single: f64,
+    /// The same per CPU-second, where both have CPU times.
+    pub packet8_over_single_per_cpu_s: Option<f64>,
 }
 
 /// How throughput grows from one thread to many.
@@ -158,10 +206,14 @@ pub struct ScalingReport {
     pub query: Query,
     /// The larger thread count.
     pub threads: usize,
-    /// Median Mrays/s with `threads` over median Mrays/s with one.
+    /// Median Mrays/s with `threads` over median Mrays/s with one (wall clock: capped by the
+    /// processors the machine's load leaves free).
     pub speedup: f64,
     /// `speedup / threads`: 1 is perfect scaling.
     pub efficiency: f64,
+    /// Mrays per CPU-second with `threads` over that with one: 1 when more threads cost no
+    /// extra work (no contention, no idle spinning), whatever the machine's load.
+    pub cpu_efficiency: Option<f64>,
 }
 
 /// Everything measured on one scene.
@@ -220,9 +272,14 @@ pub struct RaysReport {
     pub scenes: Vec<SceneReport>,
 }
 
-/// Key that identifies a measurement apart from its backend and method.
+/// Whether two measurements traced the same rays with the same number of threads.
 fn same_rays(a: &QueryReport, b: &QueryReport) -> bool {
     a.workload == b.workload && a.query == b.query && a.threads == b.threads
+}
+
+/// `a / b` for the per-CPU-second medians, where both have them.
+fn cpu_ratio(a: &QueryReport, b: &QueryReport) -> Option<f64> {
+    Some(a.mrays_per_cpu_s?.median / b.mrays_per_cpu_s?.median)
 }
 
 /// Embree (each method) over obvhs for every workload, query and thread count measured on
@@ -241,6 +298,7 @@ pub fn embree_over_bvh(queries: &[QueryReport]) -> Vec<RatioReport> {
                 query: embree.query,
                 threads: embree.threads,
                 ratio: embree.mrays_per_s.median / bvh.mrays_per_s.median,
+                ratio_per_cpu_s: cpu_ratio(embree, bvh),
             })
         })
         .collect()
@@ -261,6 +319,7 @@ pub fn packet_gains(queries: &[QueryReport]) -> Vec<PacketGainReport> {
                 query: packet.query,
                 threads: packet.threads,
                 packet8_over_single: packet.mrays_per_s.median / single.mrays_per_s.median,
+                packet8_over_single_per_cpu_s: cpu_ratio(packet, single),
             })
         })
         .collect()
@@ -289,6 +348,7 @@ pub fn scaling(queries: &[QueryReport]) -> Vec<ScalingReport> {
                 threads: many.threads,
                 speedup,
                 efficiency: speedup / many.threads as f64,
+                cpu_efficiency: cpu_ratio(many, one),
             })
         })
         .collect()
@@ -308,7 +368,7 @@ fn sig3(x: f64) -> String {
     format!("{x:.decimals$}")
 }
 
-/// "5 runs", or "up to 5 runs (fewer once a query's runs reach 2 s)".
+/// "1 timed run", or "up to 5 timed runs (fewer once a query's runs reach 2 s)".
 fn describe_runs(what: &str, runs: &Runs) -> String {
     match runs.budget_s {
         Some(budget) if runs.timed > 1 => format!(
@@ -337,6 +397,19 @@ fn fmt_timing(timing: &Timing) -> String {
     )
 }
 
+/// A figure that may be missing, as text.
+fn or_dash(figure: Option<String>) -> String {
+    figure.unwrap_or_else(|| "-".to_string())
+}
+
+/// A wall-clock ratio and its per-CPU-second counterpart: `3.10× / 3.25×`.
+fn fmt_ratios(wall: f64, per_cpu_s: Option<f64>) -> String {
+    format!(
+        "{wall:.2}× / {}",
+        or_dash(per_cpu_s.map(|r| format!("{r:.2}×")))
+    )
+}
+
 impl RaysReport {
     /// The report as pretty-printed JSON.
     pub fn to_json(&self) -> Result<String, serde_json::Error> {
@@ -354,17 +427,18 @@ impl RaysReport {
         let _ = writeln!(
             out,
             "glint {} bench rays: Embree {embree}; {} hardware threads; threads measured {:?}.\n\
-             Each figure: median (min–max) of {}; queries after {} discarded warm-up run(s).",
+             Each query figure: median (min–max) of {}, after {} discarded warm-up run(s).\n\
+             Each build figure: median (min–max) of {}.\n\
+             All settings, tracers and thread counts of a table are measured in interleaved \
+             rounds, so their ratios hold even when the machine's load changes. Mrays/CPU-s \
+             counts the processor time the process actually got; CPU share is that time over \
+             wall time × threads (below 1: other work on the machine took the rest).",
             self.glint_version,
             self.available_threads,
             self.threads,
             describe_runs("query", &self.runs),
             self.runs.warmup,
-        );
-        let _ = writeln!(
-            out,
-            "Builds: median (min–max) of {}.",
-            describe_runs("build", &self.build_runs)
+            describe_runs("build", &self.build_runs),
         );
         for scene in &self.scenes {
             scene.write_table(&mut out, self);
@@ -388,48 +462,71 @@ impl SceneReport {
             self.camera,
             self.random_rays,
         );
+        self.write_builds(out, widest);
+        self.write_queries(out);
+        self.write_ratios(out);
+        self.write_consistency(out);
+    }
 
+    fn write_builds(&self, out: &mut String, widest: usize) {
         let _ = writeln!(
             out,
-            "\nBuild settings: build seconds, then Mrays/s with {widest} threads and the \
-             backend's intersect_many method (embree: packet8, bvh: single)"
+            "\nBuild settings: wall seconds (and CPU seconds) per build, then Mrays/s with \
+             {widest} threads and the backend's intersect_many method (embree: packet8, bvh: \
+             single)"
         );
+        let row = |c: [&str; 10]| {
+            format!(
+                "{:<7} {:<7} {:<6} {:<22} {:>4} {:>7} {:<22} {:<22} {:<22} {}",
+                c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9]
+            )
+        };
         let _ = writeln!(
             out,
-            "{:<7} {:<7} {:<6} {:<22} {:>4} {:<22} {:<22} {:<22} {:<22}",
-            "backend",
-            "quality",
-            "robust",
-            "build s",
-            "runs",
-            "coherent closest",
-            "coherent occluded",
-            "incoherent closest",
-            "incoherent occluded"
+            "{}",
+            row([
+                "backend",
+                "quality",
+                "robust",
+                "build s",
+                "runs",
+                "CPU s",
+                "coherent closest",
+                "coherent occluded",
+                "incoherent closest",
+                "incoherent occluded",
+            ])
         );
         for build in &self.builds {
             let rate = |w: Workload, q: Query| {
-                build
-                    .queries
-                    .iter()
-                    .find(|r| r.workload == w && r.query == q)
-                    .map_or("-".to_string(), |r| fmt_rate(&r.mrays_per_s))
+                or_dash(
+                    build
+                        .queries
+                        .iter()
+                        .find(|r| r.workload == w && r.query == q)
+                        .map(|r| fmt_rate(&r.mrays_per_s)),
+                )
             };
             let _ = writeln!(
                 out,
-                "{:<7} {:<7} {:<6} {:<22} {:>4} {:<22} {:<22} {:<22} {:<22}",
-                build.backend,
-                build.quality,
-                if build.robust { "yes" } else { "no" },
-                fmt_timing(&build.build_s),
-                build.build_s.runs,
-                rate(Workload::Coherent, Query::Closest),
-                rate(Workload::Coherent, Query::Occluded),
-                rate(Workload::Incoherent, Query::Closest),
-                rate(Workload::Incoherent, Query::Occluded),
+                "{}",
+                row([
+                    &build.backend,
+                    &build.quality,
+                    if build.robust { "yes" } else { "no" },
+                    &fmt_timing(&build.build_s),
+                    &build.build_s.runs.to_string(),
+                    &or_dash(build.build_cpu_s.map(|c| sig3(c.median_s))),
+                    &rate(Workload::Coherent, Query::Closest),
+                    &rate(Workload::Coherent, Query::Occluded),
+                    &rate(Workload::Incoherent, Query::Closest),
+                    &rate(Workload::Incoherent, Query::Occluded),
+                ])
             );
         }
+    }
 
+    fn write_queries(&self, out: &mut String) {
         let default_build = self
             .builds
             .iter()
@@ -437,65 +534,71 @@ impl SceneReport {
             .map_or("the default", |b| b.quality.as_str());
         let _ = writeln!(
             out,
-            "\nQueries on the {default_build} build (not robust): Mrays/s per thread count, \
-             scaling = speed-up / threads"
+            "\nQueries on the {default_build} build (not robust). Speed-up: wall Mrays/s over \
+             those with 1 thread; CPU eff.: Mrays/CPU-s over those with 1 thread"
         );
-        let mut header = format!(
-            "{:<7} {:<7} {:<10} {:<8}",
-            "backend", "method", "workload", "query"
+        let _ = writeln!(
+            out,
+            "{:<7} {:<7} {:<10} {:<8} {:>7} {:<22} {:>11} {:>9} {:>8} {:>9} {:>9}",
+            "backend",
+            "method",
+            "workload",
+            "query",
+            "threads",
+            "Mrays/s",
+            "Mrays/CPU-s",
+            "CPU share",
+            "speed-up",
+            "CPU eff.",
+            "positives"
         );
-        for threads in &run.threads {
-            let _ = write!(header, " {:<22}", format!("{threads} thread(s)"));
-        }
-        let _ = writeln!(out, "{header} {:<8} {:>9}", "scaling", "positives");
-        for first in self.queries.iter().filter(|q| q.threads == 1) {
-            let mut line = format!(
-                "{:<7} {:<7} {:<10} {:<8}",
-                first.backend,
-                first.method.name(),
-                first.workload.name(),
-                first.query.name()
+        for q in &self.queries {
+            let scaling = self.scaling.iter().find(|s| {
+                s.backend == q.backend
+                    && s.method == q.method
+                    && s.workload == q.workload
+                    && s.query == q.query
+                    && s.threads == q.threads
+            });
+            let _ = writeln!(
+                out,
+                "{:<7} {:<7} {:<10} {:<8} {:>7} {:<22} {:>11} {:>9} {:>8} {:>9} {:>9}",
+                q.backend,
+                q.method.name(),
+                q.workload.name(),
+                q.query.name(),
+                q.threads,
+                fmt_rate(&q.mrays_per_s),
+                or_dash(q.mrays_per_cpu_s.map(|r| sig3(r.median))),
+                or_dash(q.cpu_share.map(|s| format!("{:.0}%", 100.0 * s))),
+                or_dash(scaling.map(|s| format!("{:.2}×", s.speedup))),
+                or_dash(
+                    scaling
+                        .and_then(|s| s.cpu_efficiency)
+                        .map(|e| format!("{:.0}%", 100.0 * e))
+                ),
+                q.positives
             );
-            for &threads in &run.threads {
-                let cell = self
-                    .queries
-                    .iter()
-                    .find(|q| {
-                        q.threads == threads
-                            && q.backend == first.backend
-                            && q.method == first.method
-                            && q.workload == first.workload
-                            && q.query == first.query
-                    })
-                    .map_or("-".to_string(), |q| fmt_rate(&q.mrays_per_s));
-                let _ = write!(line, " {cell:<22}");
-            }
-            let scaling = self
-                .scaling
-                .iter()
-                .find(|s| {
-                    s.backend == first.backend
-                        && s.method == first.method
-                        && s.workload == first.workload
-                        && s.query == first.query
-                })
-                .map_or("-".to_string(), |s| format!("{:.0}%", 100.0 * s.efficiency));
-            let _ = writeln!(out, "{line} {scaling:<8} {:>9}", first.positives);
         }
+    }
 
-        if !self.embree_over_bvh.is_empty() {
-            let _ = writeln!(
-                out,
-                "\nSame-run ratios: Embree over obvhs (single rays, packets), and Embree's \
-                 packets over its single rays"
-            );
-            let _ = writeln!(
-                out,
-                "{:<10} {:<8} {:<7} {:>14} {:>15} {:>16}",
-                "workload", "query", "threads", "single/obvhs", "packet8/obvhs", "packet8/single"
-            );
-            for gain in &self.packet_gains {
-                let ratio = |method: Method| {
+    fn write_ratios(&self, out: &mut String) {
+        if self.packet_gains.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            out,
+            "\nSame-run ratios, wall / per CPU-second: Embree over obvhs (single rays, packets), \
+             and Embree's packets over its single rays"
+        );
+        let _ = writeln!(
+            out,
+            "{:<10} {:<8} {:>7} {:>16} {:>16} {:>16}",
+            "workload", "query", "threads", "single/obvhs", "packet8/obvhs", "packet8/single"
+        );
+        for gain in &self.packet_gains {
+            let ratio = |method: Method| {
+                or_dash(
                     self.embree_over_bvh
                         .iter()
                         .find(|r| {
@@ -504,21 +607,23 @@ impl SceneReport {
                                 && r.query == gain.query
                                 && r.threads == gain.threads
                         })
-                        .map_or("-".to_string(), |r| format!("{:.2}×", r.ratio))
-                };
-                let _ = writeln!(
-                    out,
-                    "{:<10} {:<8} {:<7} {:>14} {:>15} {:>16}",
-                    gain.workload.name(),
-                    gain.query.name(),
-                    gain.threads,
-                    ratio(Method::Single),
-                    ratio(Method::Packet8),
-                    format!("{:.2}×", gain.packet8_over_single),
-                );
-            }
+                        .map(|r| fmt_ratios(r.ratio, r.ratio_per_cpu_s)),
+                )
+            };
+            let _ = writeln!(
+                out,
+                "{:<10} {:<8} {:>7} {:>16} {:>16} {:>16}",
+                gain.workload.name(),
+                gain.query.name(),
+                gain.threads,
+                ratio(Method::Single),
+                ratio(Method::Packet8),
+                fmt_ratios(gain.packet8_over_single, gain.packet8_over_single_per_cpu_s),
+            );
         }
+    }
 
+    fn write_consistency(&self, out: &mut String) {
         let _ = writeln!(
             out,
             "\nConsistency: occluded rays must equal closest hits within the occlusion ray's \
@@ -549,19 +654,44 @@ impl SceneReport {
 mod tests {
     use super::*;
 
+    /// A query at `mrays` Mrays/s that used `cpu_share` of its threads' processors.
     fn query(backend: &str, method: Method, threads: usize, mrays: f64) -> QueryReport {
-        let seconds = Timing::from_samples(&[1.0 / mrays]).unwrap();
-        QueryReport {
-            backend: backend.into(),
+        let wall_s = 1.0 / mrays;
+        let seconds = Timing::from_samples(&[wall_s]).unwrap();
+        // Half the requested processor time: per CPU-second, twice the wall rate per thread.
+        let cpu_seconds = Timing::from_samples(&[0.5 * wall_s * threads as f64]).unwrap();
+        QueryReport::new(
+            backend,
             method,
-            workload: Workload::Coherent,
-            query: Query::Closest,
+            Workload::Coherent,
+            Query::Closest,
             threads,
-            rays: 1_000_000,
-            positives: 10,
+            1_000_000,
+            10,
             seconds,
-            mrays_per_s: seconds.rate(1.0),
-        }
+            Some(cpu_seconds),
+        )
+    }
+
+    #[test]
+    fn query_rates_and_cpu_share_follow_from_the_times() {
+        let q = query("embree", Method::Single, 2, 4.0);
+        assert!((q.mrays_per_s.median - 4.0).abs() < 1e-9);
+        assert!((q.cpu_share.unwrap() - 0.5).abs() < 1e-9);
+        // 1M rays in 0.25 CPU-s.
+        assert!((q.mrays_per_cpu_s.unwrap().median - 4.0).abs() < 1e-9);
+        let no_cpu = QueryReport::new(
+            "bvh",
+            Method::Single,
+            Workload::Coherent,
+            Query::Closest,
+            1,
+            10,
+            1,
+            q.seconds,
+            Timing::from_samples(&[0.0]),
+        );
+        assert_eq!((no_cpu.mrays_per_cpu_s, no_cpu.cpu_share), (None, None));
     }
 
     #[test]
@@ -584,6 +714,8 @@ mod tests {
                 .ratio
         };
         assert!((ratio(Method::Single, 1) - 5.0).abs() < 1e-9);
+        // Equal CPU shares: the per-CPU-second ratio is the wall ratio.
+        assert!((ratios[0].ratio_per_cpu_s.unwrap() - 5.0).abs() < 1e-9);
         assert!((ratio(Method::Packet8, 2) - 15.0).abs() < 1e-9);
 
         let gains = packet_gains(&queries);
@@ -600,6 +732,8 @@ mod tests {
         );
         assert!((embree_single.speedup - 1.6).abs() < 1e-9);
         assert!((embree_single.efficiency - 0.8).abs() < 1e-9);
+        // Per CPU-second: 16 / (2 · 0.5) over 10 / (1 · 0.5) Mrays per CPU-second.
+        assert!((embree_single.cpu_efficiency.unwrap() - 0.8).abs() < 1e-9);
         assert!((scaling[2].efficiency - 1.0).abs() < 1e-9);
     }
 

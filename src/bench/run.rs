@@ -279,6 +279,7 @@ struct Built {
     options: BuildOptions,
     structure: Structure,
     build_s: Timing,
+    build_cpu_s: Option<Timing>,
 }
 
 /// One way to trace rays: a built structure, a method, and the pool to trace on.
@@ -380,17 +381,17 @@ fn trace_batch(
         .zip(timings)
         .zip(positives.into_iter().zip(within))
         .map(|((tracer, timed), (positives, within))| Traced {
-            report: QueryReport {
-                backend: tracer.built.kind.name().to_string(),
-                method: tracer.method,
+            report: QueryReport::new(
+                tracer.built.kind.name(),
+                tracer.method,
                 workload,
                 query,
-                threads: tracer.pool.threads,
-                rays: rays.len(),
+                tracer.pool.threads,
+                rays.len(),
                 positives,
-                seconds: timed.timing,
-                mrays_per_s: timed.timing.rate(rays.len() as f64).in_millions(),
-            },
+                timed.timing,
+                timed.cpu,
+            ),
             hits_within_occlusion_tfar: within,
         })
         .collect()
@@ -451,6 +452,7 @@ fn build_all(
                 options,
                 structure,
                 build_s: timed.timing,
+                build_cpu_s: timed.cpu,
             })
         })
         .collect()
@@ -579,6 +581,7 @@ fn bench_scene(
             robust: built.options.robust,
             is_default: built.options == BuildOptions::default(),
             build_s: built.build_s,
+            build_cpu_s: built.build_cpu_s,
             queries,
         })
         .collect();

@@ -4,6 +4,7 @@
 //! process, the min–max spread shows how noisy the machine was, and a discarded warm-up run
 //! keeps first-touch costs (page faults, lazy thread pools, cold caches) out of the figures.
 
+use super::cpu::process_cpu_s;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -103,8 +104,11 @@ impl Rate {
 /// built, or a count to check).
 #[derive(Debug)]
 pub struct Timed<T> {
-    /// Times of the timed runs.
+    /// Wall-clock times of the timed runs.
     pub timing: Timing,
+    /// CPU time the whole process used during each timed run (all its threads), where the
+    /// system reports it ([`super::cpu::process_cpu_s`]).
+    pub cpu: Option<Timing>,
     /// What the last run returned.
     pub last: T,
 }
@@ -138,11 +142,15 @@ pub fn measure_interleaved<T, W: FnMut() -> T>(runs: Runs, works: &mut [W]) -> V
             drop(work());
         }
     }
-    // Per piece: the times of its timed runs and the value of its latest run.
-    let mut state: Vec<(Vec<f64>, Option<T>)> = works.iter().map(|_| (Vec::new(), None)).collect();
+    // Per piece: the wall and CPU times of its timed runs and the value of its latest run.
+    type PieceState<T> = (Vec<f64>, Vec<Option<f64>>, Option<T>);
+    let mut state: Vec<PieceState<T>> = works
+        .iter()
+        .map(|_| (Vec::new(), Vec::new(), None))
+        .collect();
     loop {
         let mut ran = false;
-        for (work, (samples_s, last)) in works.iter_mut().zip(state.iter_mut()) {
+        for (work, (samples_s, cpu_samples_s, last)) in works.iter_mut().zip(state.iter_mut()) {
             let spent_s: f64 = samples_s.iter().sum();
             let done = !samples_s.is_empty()
                 && (samples_s.len() >= runs.timed
@@ -151,9 +159,12 @@ pub fn measure_interleaved<T, W: FnMut() -> T>(runs: Runs, works: &mut [W]) -> V
                 continue;
             }
             drop(last.take());
+            let cpu_before_s = process_cpu_s();
             let start = Instant::now();
             let value = work();
             samples_s.push(start.elapsed().as_secs_f64());
+            let cpu_after_s = process_cpu_s();
+            cpu_samples_s.push(cpu_before_s.zip(cpu_after_s).map(|(b, a)| (a - b).max(0.0)));
             *last = Some(value);
             ran = true;
         }
@@ -163,10 +174,14 @@ pub fn measure_interleaved<T, W: FnMut() -> T>(runs: Runs, works: &mut [W]) -> V
     }
     state
         .into_iter()
-        .map(|(samples_s, last)| Timed {
+        .map(|(samples_s, cpu_samples_s, last)| Timed {
             // Proven invariants: the first round runs every piece once, setting `last` and
             // one sample; `Duration::as_secs_f64` is finite and non-negative.
             timing: Timing::from_samples(&samples_s).expect("one or more valid durations"),
+            cpu: cpu_samples_s
+                .into_iter()
+                .collect::<Option<Vec<f64>>>()
+                .and_then(|cpu_s| Timing::from_samples(&cpu_s)),
             last: last.expect("every piece ran at least once"),
         })
         .collect()
