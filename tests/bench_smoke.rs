@@ -74,9 +74,13 @@ fn assert_cpu_figures_sane(q: &QueryReport, what: &str) {
 
 fn check_scene(scene: &SceneReport, config: &RaysConfig) {
     let name = &scene.name;
-    let rays = config.ray_count();
-    assert_eq!(scene.camera_rays, rays, "{name}");
-    assert_eq!(scene.random_rays, rays, "{name}");
+    assert_eq!(scene.camera_rays, config.camera_ray_count(), "{name}");
+    assert_eq!(scene.random_rays, config.random_rays, "{name}");
+    // Rays each workload traces: every pixel once, or every random ray once.
+    let rays_of = |workload: Workload| match workload {
+        Workload::Coherent => config.camera_ray_count(),
+        Workload::Incoherent => config.random_rays,
+    };
     let backends: Vec<&str> = BackendKind::available().iter().map(|k| k.name()).collect();
 
     // Every build setting of every backend, each with all four queries.
@@ -100,7 +104,7 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
         }
         assert_eq!(build.queries.len(), 4, "{what}");
         for q in &build.queries {
-            assert_eq!(q.rays, rays, "{what}");
+            assert_eq!(q.rays, rays_of(q.workload), "{what}");
             assert_eq!(q.threads, config.threads, "{what}");
             assert_rate_sane(&q.mrays_per_s, &what);
             assert_cpu_figures_sane(q, &what);
@@ -115,7 +119,7 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
     assert_eq!(scene.queries.len(), expected_queries, "{name}");
     for q in &scene.queries {
         let what = format!("{name} {q:?}");
-        assert_eq!(q.rays, rays, "{what}");
+        assert_eq!(q.rays, rays_of(q.workload), "{what}");
         assert!(q.positives <= q.rays, "{what}");
         assert_timing_sane(&q.seconds, &what);
         assert_rate_sane(&q.mrays_per_s, &what);
@@ -144,7 +148,7 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
     );
     for check in &scene.consistency {
         let what = format!("{name} {check:?}");
-        assert_eq!(check.rays, rays, "{what}");
+        assert_eq!(check.rays, rays_of(check.workload), "{what}");
         assert!(check.closest_hits > 0, "{what}: the camera sees nothing");
         assert_eq!(check.occluded, check.closest_hits_within_tfar, "{what}");
         match check.workload {
@@ -167,7 +171,7 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
                 .collect();
             let (lo, hi) = (counts.iter().min().unwrap(), counts.iter().max().unwrap());
             assert!(
-                hi - lo <= 2 + rays / 1000,
+                hi - lo <= 2 + rays_of(workload) / 1000,
                 "{name} {workload:?} {query:?}: {counts:?}"
             );
         }

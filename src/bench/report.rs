@@ -264,6 +264,8 @@ pub struct RaysReport {
     pub width: u32,
     /// Camera-ray image height, pixels.
     pub height: u32,
+    /// Random rays per incoherent figure.
+    pub random_rays: usize,
     /// Warm-up and timed runs (at most) per query figure.
     pub runs: Runs,
     /// Runs (at most) per build figure.
@@ -453,7 +455,7 @@ impl SceneReport {
         let _ = writeln!(
             out,
             "\n== {}: {} triangles; {} coherent rays ({}×{} from the {}, 8×8 tiles); {} \
-             incoherent rays",
+             incoherent rays (random origins in the bounds, uniform directions)",
             self.name,
             self.triangles,
             self.camera_rays,

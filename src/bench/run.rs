@@ -22,9 +22,10 @@ pub const RAY_SEED: u64 = 0x0067_6c69_6e74;
 pub struct RaysConfig {
     /// Width of the camera-ray image, pixels.
     pub width: u32,
-    /// Height of the camera-ray image, pixels. The incoherent workload traces as many random
-    /// rays as the image has pixels, so both workloads count the same rays.
+    /// Height of the camera-ray image, pixels.
     pub height: u32,
+    /// Random rays of the incoherent workload.
+    pub random_rays: usize,
     /// Warm-up and timed runs of every ray query.
     pub runs: Runs,
     /// Runs of every build. Builds need no warm-up of their own: each starts from fresh
@@ -37,9 +38,13 @@ pub struct RaysConfig {
     pub seed: u64,
 }
 
-/// Time budget of one ray-query figure in [`RaysConfig::full`], seconds: five runs of
-/// 786k rays fit in it down to about 2 Mrays/s; slower figures (obvhs, incoherent, one
-/// thread) get fewer runs.
+/// Random rays in [`RaysConfig::full`]: 2¹⁸, fewer than the 786k camera rays because
+/// incoherent rays are several times slower (obvhs traces some built-ins' at 0.1–0.2 Mrays per
+/// CPU-second), and the whole default run should take minutes, not a quarter of an hour.
+const FULL_RANDOM_RAYS: usize = 1 << 18;
+
+/// Time budget of one ray-query figure in [`RaysConfig::full`], seconds: five runs fit in it
+/// down to about 2 Mrays/s for the camera rays; slower figures get fewer runs.
 const QUERY_BUDGET_S: f64 = 2.0;
 
 /// Time budget of one build figure in [`RaysConfig::full`], seconds: enough for five runs of
@@ -48,12 +53,14 @@ const QUERY_BUDGET_S: f64 = 2.0;
 const BUILD_BUDGET_S: f64 = 8.0;
 
 impl RaysConfig {
-    /// The benchmark proper: 1024 × 768 rays per figure; five timed runs after one warm-up,
-    /// fewer for figures that exceed their time budget; one thread per hardware thread.
+    /// The benchmark proper: 1024 × 768 camera rays and 2¹⁸ random rays per figure; five
+    /// timed runs after one warm-up, fewer for figures that exceed their time budget; one
+    /// thread per hardware thread.
     pub fn full() -> Self {
         Self {
             width: 1024,
             height: 768,
+            random_rays: FULL_RANDOM_RAYS,
             runs: Runs {
                 warmup: 1,
                 timed: 5,
@@ -69,11 +76,12 @@ impl RaysConfig {
         }
     }
 
-    /// A smoke test: 64 × 48 rays, one run without warm-up.
+    /// A smoke test: 64 × 48 camera rays and 2048 random rays, one run without warm-up.
     pub fn quick() -> Self {
         Self {
             width: 64,
             height: 48,
+            random_rays: 2048,
             runs: Runs::exactly(0, 1),
             build_runs: Runs::exactly(0, 1),
             ..Self::full()
@@ -87,8 +95,8 @@ impl RaysConfig {
         self
     }
 
-    /// Rays per measurement.
-    pub fn ray_count(&self) -> usize {
+    /// Camera rays per measurement.
+    pub fn camera_ray_count(&self) -> usize {
         self.width as usize * self.height as usize
     }
 
@@ -218,6 +226,7 @@ pub fn run_rays(
         threads: config.thread_counts(),
         width: config.width,
         height: config.height,
+        random_rays: config.random_rays,
         runs: config.runs,
         build_runs: config.build_runs,
         scenes,
@@ -479,11 +488,10 @@ fn bench_scene(
         let vertices = meshes.iter().flat_map(|m| m.positions.iter().copied());
         rays::framing_camera(&bounds, vertices)
     });
-    let n = config.ray_count();
     let work = Workloads {
         camera: rays::camera_rays(&camera, config.width, config.height),
-        random: rays::random_rays(&bounds, n, config.seed),
-        random_segments: rays::random_segments(&bounds, n, config.seed),
+        random: rays::random_rays(&bounds, config.random_rays, config.seed),
+        random_segments: rays::random_segments(&bounds, config.random_rays, config.seed),
     };
 
     let variants: usize = BackendKind::available()

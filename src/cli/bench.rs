@@ -30,12 +30,15 @@ pub struct RaysArgs {
     /// The larger thread count measured (the smaller is 1). Default: hardware threads.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub threads: Option<u32>,
-    /// Width of the camera-ray image, pixels (as many random rays as pixels are traced).
+    /// Width of the camera-ray image, pixels (default 1024; 64 with --quick).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub width: Option<u32>,
-    /// Height of the camera-ray image, pixels.
+    /// Height of the camera-ray image, pixels (default 768; 48 with --quick).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub height: Option<u32>,
+    /// Random rays of the incoherent workload (default 262144; 2048 with --quick).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub random_rays: Option<u32>,
 }
 
 impl RaysArgs {
@@ -57,6 +60,9 @@ impl RaysArgs {
         }
         if let Some(height) = self.height {
             config.height = height;
+        }
+        if let Some(random_rays) = self.random_rays {
+            config.random_rays = random_rays as usize;
         }
         config
     }
@@ -145,7 +151,13 @@ mod tests {
 
     #[test]
     fn zero_counts_are_refused() {
-        for flag in ["--runs", "--threads", "--width", "--height"] {
+        for flag in [
+            "--runs",
+            "--threads",
+            "--width",
+            "--height",
+            "--random-rays",
+        ] {
             assert!(parse(&["rays", flag, "0"]).is_err(), "{flag} 0 accepted");
         }
     }
