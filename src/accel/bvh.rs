@@ -78,12 +78,15 @@ impl BvhAccel {
         }
     }
 
+    /// obvhs accepts a candidate only if `t < tmax`, where Embree's rule is `t <= tfar`; the
+    /// traversal ray's tmax is therefore one ulp past tfar, and the exact interval test happens
+    /// in [`intersect_triangle`] against the caller's `tfar`.
     fn obvhs_ray(ray: &Ray) -> obvhs::ray::Ray {
         obvhs::ray::Ray::new(
             Vec3A::from(ray.origin),
             Vec3A::from(ray.dir),
             ray.tnear,
-            ray.tfar,
+            ray.tfar.next_up(),
         )
     }
 }
@@ -91,7 +94,12 @@ impl BvhAccel {
 /// Möller–Trumbore as Embree computes it, scaled by the determinant to defer the division.
 /// Returns `(t, u, v)` with `tnear < t <= tfar`, or `None`.
 #[inline(always)]
-fn intersect_triangle(tri: &Triangle, ray: &obvhs::ray::Ray) -> Option<(f32, f32, f32)> {
+fn intersect_triangle(
+    tri: &Triangle,
+    ray: &obvhs::ray::Ray,
+    tnear: f32,
+    tfar: f32,
+) -> Option<(f32, f32, f32)> {
     let e1 = tri.v0 - tri.v1;
     let e2 = tri.v2 - tri.v0;
     let ng = e2.cross(e1);
@@ -106,7 +114,7 @@ fn intersect_triangle(tri: &Triangle, ray: &obvhs::ray::Ray) -> Option<(f32, f32
         return None;
     }
     let t_scaled = ng.dot(c) * sign;
-    if !(abs_den * ray.tmin < t_scaled && t_scaled <= abs_den * ray.tmax) {
+    if !(abs_den * tnear < t_scaled && t_scaled <= abs_den * tfar) {
         return None;
     }
     let inv = 1.0 / abs_den;
@@ -125,7 +133,8 @@ impl Accel for BvhAccel {
         let oray = Self::obvhs_ray(ray);
         let mut hit = RayHit::none();
         let found = self.bvh.ray_traverse(oray, &mut hit, |r, id| {
-            intersect_triangle(&self.triangles[id], r).map_or(f32::INFINITY, |(t, _, _)| t)
+            intersect_triangle(&self.triangles[id], r, ray.tnear, ray.tfar)
+                .map_or(f32::INFINITY, |(t, _, _)| t)
         });
         if !found {
             return None;
@@ -133,7 +142,7 @@ impl Accel for BvhAccel {
         let index = hit.primitive_id as usize;
         let tri = &self.triangles[index];
         // Recompute u, v for the winner only; the traversal needs t alone.
-        let (t, u, v) = intersect_triangle(tri, &oray)?;
+        let (t, u, v) = intersect_triangle(tri, &oray, ray.tnear, ray.tfar)?;
         let [geom_id, prim_id] = self.ids[index];
         Some(Hit {
             t,
@@ -150,8 +159,13 @@ impl Accel for BvhAccel {
             return false;
         }
         let oray = Self::obvhs_ray(ray);
+        // Any hit in the interval ends the traversal: report it as -∞ so that obvhs's
+        // `t < tmax` test cannot reject a hit at exactly tfar.
         !self.bvh.ray_traverse_miss(oray, |r, id| {
-            intersect_triangle(&self.triangles[id], r).map_or(f32::INFINITY, |(t, _, _)| t)
+            match intersect_triangle(&self.triangles[id], r, ray.tnear, ray.tfar) {
+                Some(_) => f32::NEG_INFINITY,
+                None => f32::INFINITY,
+            }
         })
     }
 
