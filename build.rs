@@ -138,7 +138,11 @@ fn from_standard_paths() -> Option<Embree> {
         Some("aarch64") => "aarch64-linux-gnu",
         _ => "",
     };
-    let include_roots = ["/usr/include", "/usr/local/include", "/opt/homebrew/include"];
+    let include_roots = [
+        "/usr/include",
+        "/usr/local/include",
+        "/opt/homebrew/include",
+    ];
     let lib_roots: Vec<PathBuf> = [
         format!("/usr/lib/{multiarch}"),
         "/usr/lib".into(),

@@ -7,6 +7,6 @@
 
 #[allow(unsafe_code)]
 pub mod accel;
+pub mod cli;
 pub mod procedural;
 pub mod scene;
-pub mod cli;

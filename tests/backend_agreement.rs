@@ -92,8 +92,14 @@ fn check_agreement(label: &str, meshes: &[TriangleMesh<'_>], ray_sets: &[(&str, 
                  same primitive {:.6}",
                 c.rays, c.hits, c.hit_miss_mismatch, c.t_mismatch, same
             );
-            assert!(c.hits > c.rays / 20, "{label}/{set_name}: too few hits to be a test");
-            assert_eq!(c.hit_miss_mismatch, 0, "{label}/{set_name}: hit vs miss differs");
+            assert!(
+                c.hits > c.rays / 20,
+                "{label}/{set_name}: too few hits to be a test"
+            );
+            assert_eq!(
+                c.hit_miss_mismatch, 0,
+                "{label}/{set_name}: hit vs miss differs"
+            );
             assert_eq!(c.t_mismatch, 0, "{label}/{set_name}: t differs");
             assert!(
                 same >= SAME_PRIM_MIN,
@@ -106,8 +112,14 @@ fn check_agreement(label: &str, meshes: &[TriangleMesh<'_>], ray_sets: &[(&str, 
 fn procedural_case(label: &str, mesh: &procedural::OwnedMesh) {
     let (lo, hi) = bounds(mesh.positions.iter().copied());
     let ray_sets = [
-        ("camera +z", camera_rays(lo, hi, Vec3::new(0.3, -0.4, -1.0), 320, 240)),
-        ("camera -x", camera_rays(lo, hi, Vec3::new(-1.0, -0.2, 0.1), 320, 240)),
+        (
+            "camera +z",
+            camera_rays(lo, hi, Vec3::new(0.3, -0.4, -1.0), 320, 240),
+        ),
+        (
+            "camera -x",
+            camera_rays(lo, hi, Vec3::new(-1.0, -0.2, 0.1), 320, 240),
+        ),
         ("random", random_rays(lo, hi, 100_000, 7)),
     ];
     check_agreement(label, &[mesh.as_triangle_mesh()], &ray_sets);
@@ -137,14 +149,21 @@ fn multiple_meshes_keep_their_ids() {
         *p = *p * 3.0 - Vec3::Y * 1.5;
     }
     let c = procedural::triangle_soup(2_000, 0.05, 6);
-    let meshes = [a.as_triangle_mesh(), b.as_triangle_mesh(), c.as_triangle_mesh()];
+    let meshes = [
+        a.as_triangle_mesh(),
+        b.as_triangle_mesh(),
+        c.as_triangle_mesh(),
+    ];
     let (lo, hi) = bounds(
         [&a, &b, &c]
             .iter()
             .flat_map(|m| m.positions.iter().copied()),
     );
     let ray_sets = [
-        ("camera", camera_rays(lo, hi, Vec3::new(0.2, -0.5, -1.0), 200, 200)),
+        (
+            "camera",
+            camera_rays(lo, hi, Vec3::new(0.2, -0.5, -1.0), 200, 200),
+        ),
         ("random", random_rays(lo, hi, 50_000, 8)),
     ];
     check_agreement("three meshes", &meshes, &ray_sets);
@@ -158,15 +177,21 @@ fn occluded_agrees_with_closest_hit() {
     let (lo, hi) = bounds(mesh.positions.iter().copied());
     let rays = random_rays(lo * 1.5, hi * 1.5, 20_000, 10);
     for &kind in BackendKind::available() {
-        let accel = accel::build(kind, &[mesh.as_triangle_mesh()], BuildOptions::default())
-            .expect("build");
+        let accel =
+            accel::build(kind, &[mesh.as_triangle_mesh()], BuildOptions::default()).expect("build");
         let hits = trace(accel.as_ref(), &rays, Coherence::Incoherent);
         let mut before = Vec::new();
         let mut beyond = Vec::new();
         for (ray, hit) in rays.iter().zip(&hits) {
             let Some(hit) = hit else { continue };
-            before.push(Ray { tfar: hit.t * (1.0 - 1e-4), ..*ray });
-            beyond.push(Ray { tfar: hit.t * (1.0 + 1e-4), ..*ray });
+            before.push(Ray {
+                tfar: hit.t * (1.0 - 1e-4),
+                ..*ray
+            });
+            beyond.push(Ray {
+                tfar: hit.t * (1.0 + 1e-4),
+                ..*ray
+            });
         }
         assert!(before.len() > 5_000, "{kind}: too few hits");
         let mut blocked = vec![false; before.len()];
@@ -176,7 +201,10 @@ fn occluded_agrees_with_closest_hit() {
             "{kind}: occluded before the closest hit"
         );
         accel.occluded_many(&beyond, &mut blocked, Coherence::Incoherent);
-        assert!(blocked.iter().all(|b| *b), "{kind}: not occluded past the closest hit");
+        assert!(
+            blocked.iter().all(|b| *b),
+            "{kind}: not occluded past the closest hit"
+        );
         // The single-ray path gives the same answers as the batched one.
         for (ray, b) in beyond.iter().zip(&blocked).take(2_000) {
             assert_eq!(accel.occluded(ray), *b);
@@ -190,7 +218,10 @@ fn occluded_agrees_with_closest_hit() {
             .collect();
         let mut out = vec![true; misses.len()];
         accel.occluded_many(&misses, &mut out, Coherence::Incoherent);
-        assert!(out.iter().all(|b| !b), "{kind}: occluded on a ray that misses");
+        assert!(
+            out.iter().all(|b| !b),
+            "{kind}: occluded on a ray that misses"
+        );
     }
 }
 
@@ -210,12 +241,35 @@ fn interval_ends_and_hit_attributes_agree() {
         let accel = accel::build(kind, &mesh, BuildOptions::default()).expect("build");
         let hit = accel.intersect(&Ray::new(origin, dir)).expect("hit");
         assert_eq!(hit.t, 2.0, "{kind}");
-        assert!((hit.u - 0.25).abs() < 1e-6 && (hit.v - 0.5).abs() < 1e-6, "{kind}: {hit:?}");
-        assert!((hit.ng - Vec3::Z).length() < 1e-6, "{kind}: normal {:?}", hit.ng);
-        assert!(accel.intersect(&Ray::segment(origin, dir, 2.0, 3.0)).is_none(), "{kind}");
-        assert!(accel.intersect(&Ray::segment(origin, dir, 0.0, 2.0)).is_some(), "{kind}");
-        assert!(!accel.occluded(&Ray::segment(origin, dir, 0.0, 1.999)), "{kind}");
-        assert!(accel.occluded(&Ray::segment(origin, dir, 0.0, 2.0)), "{kind}");
+        assert!(
+            (hit.u - 0.25).abs() < 1e-6 && (hit.v - 0.5).abs() < 1e-6,
+            "{kind}: {hit:?}"
+        );
+        assert!(
+            (hit.ng - Vec3::Z).length() < 1e-6,
+            "{kind}: normal {:?}",
+            hit.ng
+        );
+        assert!(
+            accel
+                .intersect(&Ray::segment(origin, dir, 2.0, 3.0))
+                .is_none(),
+            "{kind}"
+        );
+        assert!(
+            accel
+                .intersect(&Ray::segment(origin, dir, 0.0, 2.0))
+                .is_some(),
+            "{kind}"
+        );
+        assert!(
+            !accel.occluded(&Ray::segment(origin, dir, 0.0, 1.999)),
+            "{kind}"
+        );
+        assert!(
+            accel.occluded(&Ray::segment(origin, dir, 0.0, 2.0)),
+            "{kind}"
+        );
         // From behind: same triangle, normal still the geometric one.
         let back = accel
             .intersect(&Ray::new(Vec3::new(0.25, 0.5, -1.0), Vec3::Z))
@@ -236,13 +290,19 @@ fn shared_assets_agree() {
     ];
     for file in files {
         let path = root.join(file);
-        let scene = glint::scene::gltf::load(&path)
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let scene =
+            glint::scene::gltf::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let meshes = scene.triangle_meshes();
         let (lo, hi) = scene.bounds().expect("non-empty");
         let ray_sets = [
-            ("camera front", camera_rays(lo, hi, Vec3::new(0.2, -0.3, -1.0), 256, 192)),
-            ("camera side", camera_rays(lo, hi, Vec3::new(1.0, -0.3, 0.2), 256, 192)),
+            (
+                "camera front",
+                camera_rays(lo, hi, Vec3::new(0.2, -0.3, -1.0), 256, 192),
+            ),
+            (
+                "camera side",
+                camera_rays(lo, hi, Vec3::new(1.0, -0.3, 0.2), 256, 192),
+            ),
             ("random", random_rays(lo, hi, 50_000, 11)),
         ];
         check_agreement(file, &meshes, &ray_sets);
@@ -257,8 +317,51 @@ fn embree_is_linked_and_runs() {
     assert!(major == 3 || major == 4, "Embree major {major}");
     assert_eq!(major.to_string(), env!("GLINT_EMBREE_MAJOR"));
     let mesh = procedural::displaced_sphere(2, 0.0, 1);
-    let accel = accel::build(BackendKind::Embree, &[mesh.as_triangle_mesh()], BuildOptions::default())
-        .expect("Embree builds");
+    let accel = accel::build(
+        BackendKind::Embree,
+        &[mesh.as_triangle_mesh()],
+        BuildOptions::default(),
+    )
+    .expect("Embree builds");
     assert_eq!(accel.kind(), BackendKind::Embree);
-    assert!(accel.intersect(&Ray::new(Vec3::Z * 5.0, -Vec3::Z)).is_some());
+    assert!(
+        accel
+            .intersect(&Ray::new(Vec3::Z * 5.0, -Vec3::Z))
+            .is_some()
+    );
+}
+
+/// Every build setting answers the same queries: Embree LOW/MEDIUM/HIGH with and without the
+/// robust flag, obvhs's three presets, all against obvhs MEDIUM.
+#[test]
+fn every_build_setting_agrees() {
+    use glint::accel::BuildQuality;
+    let mesh = procedural::displaced_sphere(5, 0.05, 12);
+    let meshes = [mesh.as_triangle_mesh()];
+    let (lo, hi) = bounds(mesh.positions.iter().copied());
+    let diagonal = (hi - lo).length();
+    let camera = camera_rays(lo, hi, Vec3::new(0.1, 0.2, -1.0), 160, 120);
+    let random = random_rays(lo, hi, 20_000, 13);
+    let reference =
+        accel::build(BackendKind::Bvh, &meshes, BuildOptions::default()).expect("build");
+    for &kind in BackendKind::available() {
+        for quality in BuildQuality::ALL {
+            for robust in [false, true] {
+                let options = BuildOptions { quality, robust };
+                let accel = accel::build(kind, &meshes, options).expect("build");
+                for rays in [&camera, &random] {
+                    let c = compare(
+                        &trace(reference.as_ref(), rays, Coherence::Incoherent),
+                        &trace(accel.as_ref(), rays, Coherence::Incoherent),
+                        rays,
+                        diagonal,
+                    );
+                    let same = 1.0 - c.prim_mismatch as f64 / c.hits.max(1) as f64;
+                    assert_eq!(c.hit_miss_mismatch, 0, "{kind} {options:?}");
+                    assert_eq!(c.t_mismatch, 0, "{kind} {options:?}");
+                    assert!(same >= SAME_PRIM_MIN, "{kind} {options:?}: {same}");
+                }
+            }
+        }
+    }
 }

@@ -25,7 +25,11 @@ fn thousands_of_scenes_release_their_handles() {
         };
         let accel = EmbreeAccel::build(&meshes, options).expect("build");
         // Use it, so a lazily built structure really exists.
-        assert!(accel.intersect(&Ray::new(Vec3::Z * 3.0, -Vec3::Z)).is_some());
+        assert!(
+            accel
+                .intersect(&Ray::new(Vec3::Z * 3.0, -Vec3::Z))
+                .is_some()
+        );
         assert!(embree::live_handles() > baseline);
     }
     assert_eq!(embree::live_handles(), baseline, "scenes leaked handles");
@@ -44,7 +48,11 @@ fn scenes_outlive_a_dropped_device() {
     .expect("build");
     drop(device);
     // The scene holds the device: queries still work.
-    assert!(accel.intersect(&Ray::new(Vec3::Z * 3.0, -Vec3::Z)).is_some());
+    assert!(
+        accel
+            .intersect(&Ray::new(Vec3::Z * 3.0, -Vec3::Z))
+            .is_some()
+    );
     drop(accel);
     assert_eq!(embree::live_handles(), before);
 }
@@ -59,18 +67,26 @@ fn embree_errors_become_rust_errors() {
         positions: &positions,
         indices: &indices,
     }];
-    let err = glint::accel::build(glint::accel::BackendKind::Embree, &mesh, BuildOptions::default())
-        .err()
-        .expect("NaN rejected");
+    let err = glint::accel::build(
+        glint::accel::BackendKind::Embree,
+        &mesh,
+        BuildOptions::default(),
+    )
+    .err()
+    .expect("NaN rejected");
     assert!(err.to_string().contains("non-finite"), "{err}");
     let indices = [[0u32, 1, 7]];
     let mesh = [TriangleMesh {
         positions: &positions[..1],
         indices: &indices,
     }];
-    let err = glint::accel::build(glint::accel::BackendKind::Bvh, &mesh, BuildOptions::default())
-        .err()
-        .expect("bad index rejected");
+    let err = glint::accel::build(
+        glint::accel::BackendKind::Bvh,
+        &mesh,
+        BuildOptions::default(),
+    )
+    .err()
+    .expect("bad index rejected");
     assert!(err.to_string().contains("indexes past"), "{err}");
     // An empty scene builds and misses everything on both backends.
     for &kind in glint::accel::BackendKind::available() {
