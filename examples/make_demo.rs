@@ -53,8 +53,12 @@ struct Builder {
 
 impl Builder {
     /// Appends bytes as a new buffer view (4-byte aligned, as accessors require).
-    fn view(&mut self, bytes: &[u8], target: Option<json::buffer::Target>) -> json::Index<json::buffer::View> {
-        while self.bin.len() % 4 != 0 {
+    fn view(
+        &mut self,
+        bytes: &[u8],
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::buffer::View> {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let offset = self.bin.len();
@@ -100,25 +104,58 @@ impl Builder {
     fn geometry(&mut self, g: &Geometry) -> Attributes {
         use json::accessor::{ComponentType, Type};
         use json::buffer::Target;
-        let floats = |v: &mut Vec<u8>, xs: &[f32]| xs.iter().for_each(|x| v.extend_from_slice(&x.to_le_bytes()));
+        let floats = |v: &mut Vec<u8>, xs: &[f32]| {
+            xs.iter()
+                .for_each(|x| v.extend_from_slice(&x.to_le_bytes()))
+        };
         let mut bytes = Vec::new();
-        g.positions.iter().for_each(|p| floats(&mut bytes, &p.to_array()));
+        g.positions
+            .iter()
+            .for_each(|p| floats(&mut bytes, &p.to_array()));
         let lo = g.positions.iter().copied().fold(Vec3::INFINITY, Vec3::min);
-        let hi = g.positions.iter().copied().fold(Vec3::NEG_INFINITY, Vec3::max);
+        let hi = g
+            .positions
+            .iter()
+            .copied()
+            .fold(Vec3::NEG_INFINITY, Vec3::max);
         let view = self.view(&bytes, Some(Target::ArrayBuffer));
-        let position = self.accessor(view, g.positions.len(), ComponentType::F32, Type::Vec3, Some((lo, hi)));
+        let position = self.accessor(
+            view,
+            g.positions.len(),
+            ComponentType::F32,
+            Type::Vec3,
+            Some((lo, hi)),
+        );
         bytes.clear();
-        g.normals.iter().for_each(|n| floats(&mut bytes, &n.to_array()));
+        g.normals
+            .iter()
+            .for_each(|n| floats(&mut bytes, &n.to_array()));
         let view = self.view(&bytes, Some(Target::ArrayBuffer));
         let normal = self.accessor(view, g.normals.len(), ComponentType::F32, Type::Vec3, None);
         bytes.clear();
-        g.texcoords.iter().for_each(|t| floats(&mut bytes, &t.to_array()));
+        g.texcoords
+            .iter()
+            .for_each(|t| floats(&mut bytes, &t.to_array()));
         let view = self.view(&bytes, Some(Target::ArrayBuffer));
-        let texcoord = self.accessor(view, g.texcoords.len(), ComponentType::F32, Type::Vec2, None);
+        let texcoord = self.accessor(
+            view,
+            g.texcoords.len(),
+            ComponentType::F32,
+            Type::Vec2,
+            None,
+        );
         bytes.clear();
-        g.indices.iter().for_each(|i| bytes.extend_from_slice(&i.to_le_bytes()));
+        g.indices
+            .iter()
+            .for_each(|i| bytes.extend_from_slice(&i.to_le_bytes()));
         let view = self.view(&bytes, Some(Target::ElementArrayBuffer));
-        let indices = self.accessor(view, g.indices.len(), ComponentType::U16, Type::Scalar, None);
+        let indices = self.accessor(
+            view,
+            g.indices.len(),
+            ComponentType::U16,
+            Type::Scalar,
+            None,
+        );
         Attributes {
             position,
             normal,
@@ -127,7 +164,12 @@ impl Builder {
         }
     }
 
-    fn mesh(&mut self, name: &str, geometry: &Attributes, material: json::Index<json::Material>) -> json::Index<json::Mesh> {
+    fn mesh(
+        &mut self,
+        name: &str,
+        geometry: &Attributes,
+        material: json::Index<json::Material>,
+    ) -> json::Index<json::Mesh> {
         let attributes = [
             (json::mesh::Semantic::Positions, geometry.position),
             (json::mesh::Semantic::Normals, geometry.normal),
@@ -153,7 +195,13 @@ impl Builder {
         })
     }
 
-    fn material(&mut self, name: &str, base_color: [f32; 4], metallic: f32, roughness: f32) -> json::Index<json::Material> {
+    fn material(
+        &mut self,
+        name: &str,
+        base_color: [f32; 4],
+        metallic: f32,
+        roughness: f32,
+    ) -> json::Index<json::Material> {
         self.root.push(json::Material {
             name: Some(name.into()),
             pbr_metallic_roughness: json::material::PbrMetallicRoughness {
@@ -218,7 +266,9 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
 
     // Materials. Albedos stay below ~0.8, as real diffuse surfaces do.
     let floor_material = b.material("floor", [0.8, 0.8, 0.8, 1.0], 0.0, 0.9);
-    b.root.materials[floor_material.value()].pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
+    b.root.materials[floor_material.value()]
+        .pbr_metallic_roughness
+        .base_color_texture = Some(json::texture::Info {
         index: texture,
         tex_coord: 0,
         extensions: None,
@@ -239,7 +289,6 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
             emissive_strength: Some(json::extensions::material::EmissiveStrength {
                 emissive_strength: json::extensions::material::EmissiveStrengthFactor(4.0),
             }),
-            ..Default::default()
         });
     }
 
@@ -267,11 +316,46 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
             ..Default::default()
         }));
     };
-    place(&mut b, "floor", floor_mesh, Vec3::ZERO, Quat::IDENTITY, Vec3::ONE);
-    place(&mut b, "red box", red_box, Vec3::new(-1.7, 0.4, 0.6), Quat::from_rotation_y(0.5), Vec3::splat(0.8));
-    place(&mut b, "green box", green_box, Vec3::new(1.7, 0.75, -0.9), Quat::from_rotation_y(-0.3), Vec3::new(0.6, 1.5, 0.6));
-    place(&mut b, "blue sphere", blue_sphere, Vec3::new(0.6, 0.5, 1.3), Quat::IDENTITY, Vec3::splat(0.5));
-    place(&mut b, "mirror sphere", mirror_sphere, Vec3::new(-0.3, 0.9, -1.2), Quat::IDENTITY, Vec3::splat(0.9));
+    place(
+        &mut b,
+        "floor",
+        floor_mesh,
+        Vec3::ZERO,
+        Quat::IDENTITY,
+        Vec3::ONE,
+    );
+    place(
+        &mut b,
+        "red box",
+        red_box,
+        Vec3::new(-1.7, 0.4, 0.6),
+        Quat::from_rotation_y(0.5),
+        Vec3::splat(0.8),
+    );
+    place(
+        &mut b,
+        "green box",
+        green_box,
+        Vec3::new(1.7, 0.75, -0.9),
+        Quat::from_rotation_y(-0.3),
+        Vec3::new(0.6, 1.5, 0.6),
+    );
+    place(
+        &mut b,
+        "blue sphere",
+        blue_sphere,
+        Vec3::new(0.6, 0.5, 1.3),
+        Quat::IDENTITY,
+        Vec3::splat(0.5),
+    );
+    place(
+        &mut b,
+        "mirror sphere",
+        mirror_sphere,
+        Vec3::new(-0.3, 0.9, -1.2),
+        Quat::IDENTITY,
+        Vec3::splat(0.9),
+    );
     // The panel quad lies in the xz plane facing +Y; stand it up facing the camera (+Z).
     place(
         &mut b,
@@ -304,25 +388,36 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
         name: Some("camera".into()),
         camera: Some(camera),
         translation: Some(eye.to_array()),
-        rotation: Some(json::scene::UnitQuaternion(look_rotation(target - eye).to_array())),
+        rotation: Some(json::scene::UnitQuaternion(
+            look_rotation(target - eye).to_array(),
+        )),
         ..Default::default()
     }));
 
     // Lights (radiometric: W/sr for point and spot, W/m² for directional).
     use json::extensions::scene::khr_lights_punctual as punctual;
-    let light = |name: &str, type_, color: [f32; 3], intensity: f32, spot: Option<punctual::Spot>| punctual::Light {
-        color,
-        extensions: None,
-        extras: Default::default(),
-        intensity,
-        name: Some(name.into()),
-        range: None,
-        spot,
-        type_: Valid(type_),
-    };
+    let light =
+        |name: &str, type_, color: [f32; 3], intensity: f32, spot: Option<punctual::Spot>| {
+            punctual::Light {
+                color,
+                extensions: None,
+                extras: Default::default(),
+                intensity,
+                name: Some(name.into()),
+                range: None,
+                spot,
+                type_: Valid(type_),
+            }
+        };
     let lights = vec![
         // A floor point 2.5 m below gets E = 8/2.5² ≈ 1.3 W/m², radiance ≈ 0.8/π · 1.3 ≈ 0.3.
-        light("warm point", punctual::Type::Point, [1.0, 0.85, 0.7], 8.0, None),
+        light(
+            "warm point",
+            punctual::Type::Point,
+            [1.0, 0.85, 0.7],
+            8.0,
+            None,
+        ),
         // About 5 m from its target: E ≈ 30/25 = 1.2 W/m² inside the cone.
         light(
             "cool spot",
@@ -335,30 +430,56 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
             }),
         ),
         // A soft fill from above: E = 1 W/m² at normal incidence.
-        light("sky fill", punctual::Type::Directional, [1.0, 0.97, 0.92], 1.0, None),
+        light(
+            "sky fill",
+            punctual::Type::Directional,
+            [1.0, 0.97, 0.92],
+            1.0,
+            None,
+        ),
     ];
     b.root.extensions = Some(json::extensions::root::Root {
         khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual { lights }),
-        ..Default::default()
     });
     let light_node = |b: &mut Builder, name: &str, index: u32, position: Vec3, towards: Vec3| {
         b.node(json::Node {
             name: Some(name.into()),
             translation: Some(position.to_array()),
-            rotation: Some(json::scene::UnitQuaternion(look_rotation(towards).to_array())),
+            rotation: Some(json::scene::UnitQuaternion(
+                look_rotation(towards).to_array(),
+            )),
             extensions: Some(json::extensions::scene::Node {
-                khr_lights_punctual: Some(json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
-                    light: json::Index::new(index),
-                }),
-                ..Default::default()
+                khr_lights_punctual: Some(
+                    json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
+                        light: json::Index::new(index),
+                    },
+                ),
             }),
             ..Default::default()
         })
     };
     let spot_position = Vec3::new(-2.8, 3.8, 2.2);
-    nodes.push(light_node(&mut b, "point light", 0, Vec3::new(1.8, 2.5, 1.6), Vec3::NEG_Y));
-    nodes.push(light_node(&mut b, "spot light", 1, spot_position, Vec3::new(-1.0, 0.3, -0.4) - spot_position));
-    nodes.push(light_node(&mut b, "sun", 2, Vec3::new(0.0, 6.0, 0.0), Vec3::new(0.35, -1.0, -0.45)));
+    nodes.push(light_node(
+        &mut b,
+        "point light",
+        0,
+        Vec3::new(1.8, 2.5, 1.6),
+        Vec3::NEG_Y,
+    ));
+    nodes.push(light_node(
+        &mut b,
+        "spot light",
+        1,
+        spot_position,
+        Vec3::new(-1.0, 0.3, -0.4) - spot_position,
+    ));
+    nodes.push(light_node(
+        &mut b,
+        "sun",
+        2,
+        Vec3::new(0.0, 6.0, 0.0),
+        Vec3::new(0.35, -1.0, -0.45),
+    ));
 
     let scene = b.root.push(json::Scene {
         extensions: None,
@@ -368,7 +489,7 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
     });
     b.root.scene = Some(scene);
 
-    while b.bin.len() % 4 != 0 {
+    while !b.bin.len().is_multiple_of(4) {
         b.bin.push(0);
     }
     b.root.push(json::Buffer {
@@ -380,7 +501,7 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
     });
     let mut json_bytes = json::serialize::to_vec(&b.root)?;
     // GLB chunks are 4-byte aligned; JSON pads with spaces.
-    while json_bytes.len() % 4 != 0 {
+    while !json_bytes.len().is_multiple_of(4) {
         json_bytes.push(b' ');
     }
     let glb = gltf::binary::Glb {
@@ -399,7 +520,11 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
 /// `direction`, keeping its +Y as close to world up as possible.
 fn look_rotation(direction: Vec3) -> Quat {
     let back = -direction.normalize();
-    let up_hint = if back.y.abs() > 0.99 { Vec3::NEG_Z } else { Vec3::Y };
+    let up_hint = if back.y.abs() > 0.99 {
+        Vec3::NEG_Z
+    } else {
+        Vec3::Y
+    };
     let right = up_hint.cross(back).normalize();
     let up = back.cross(right);
     Quat::from_mat3(&glam::Mat3::from_cols(right, up, back))
@@ -410,7 +535,10 @@ fn look_rotation(direction: Vec3) -> Quat {
 fn quad(half: f32, repeats: f32) -> Geometry {
     let corners = [(-1.0, 1.0), (1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)];
     Geometry {
-        positions: corners.iter().map(|&(x, z)| Vec3::new(x * half, 0.0, z * half)).collect(),
+        positions: corners
+            .iter()
+            .map(|&(x, z)| Vec3::new(x * half, 0.0, z * half))
+            .collect(),
         normals: vec![Vec3::Y; 4],
         texcoords: corners
             .iter()
@@ -429,9 +557,20 @@ fn unit_cube() -> Geometry {
         texcoords: Vec::new(),
         indices: Vec::new(),
     };
-    for normal in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z] {
+    for normal in [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+    ] {
         // Two axes spanning the face, with u × v = normal so the face winds outwards.
-        let u = if normal.y.abs() > 0.5 { Vec3::X } else { Vec3::Y.cross(normal) };
+        let u = if normal.y.abs() > 0.5 {
+            Vec3::X
+        } else {
+            Vec3::Y.cross(normal)
+        };
         let v = normal.cross(u);
         let base = u16::try_from(g.positions.len()).unwrap_or(u16::MAX);
         for (s, t) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
@@ -439,7 +578,8 @@ fn unit_cube() -> Geometry {
             g.normals.push(normal);
             g.texcoords.push(Vec2::new(s + 0.5, 0.5 - t));
         }
-        g.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+        g.indices
+            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
     }
     g
 }
@@ -458,7 +598,11 @@ fn unit_sphere(segments: u16, rings: u16) -> Geometry {
         for segment in 0..=segments {
             let u = f32::from(segment) / f32::from(segments);
             let phi = u * std::f32::consts::TAU;
-            let p = Vec3::new(theta.sin() * phi.sin(), theta.cos(), theta.sin() * phi.cos());
+            let p = Vec3::new(
+                theta.sin() * phi.sin(),
+                theta.cos(),
+                theta.sin() * phi.cos(),
+            );
             g.positions.push(p);
             g.normals.push(p);
             g.texcoords.push(Vec2::new(u, v));
@@ -480,7 +624,7 @@ fn unit_sphere(segments: u16, rings: u16) -> Geometry {
 fn checker_png() -> Result<Vec<u8>, image::ImageError> {
     let cell = CHECKER_TEXELS / CHECKER_CELLS;
     let image = image::RgbImage::from_fn(CHECKER_TEXELS, CHECKER_TEXELS, |x, y| {
-        if (x / cell + y / cell) % 2 == 0 {
+        if (x / cell + y / cell).is_multiple_of(2) {
             image::Rgb([225, 225, 220])
         } else {
             image::Rgb([110, 112, 118])

@@ -14,9 +14,15 @@ use std::path::Path;
 fn assert_error(result: Result<impl std::fmt::Debug, LoadError>, file: &str, expected: &[&str]) {
     let err = result.expect_err("bad input must be an error");
     let message = err.to_string();
-    assert!(message.contains(file), "message should name {file}: {message}");
+    assert!(
+        message.contains(file),
+        "message should name {file}: {message}"
+    );
     for fragment in expected {
-        assert!(message.contains(fragment), "message should say {fragment:?}: {message}");
+        assert!(
+            message.contains(fragment),
+            "message should say {fragment:?}: {message}"
+        );
     }
     assert!(!message.contains('\n'), "one line: {message}");
 }
@@ -43,7 +49,11 @@ fn the_unbroken_fixture_loads() {
 
 #[test]
 fn missing_file() {
-    assert_error(load(Path::new("/nonexistent/scene.gltf")), "/nonexistent/scene.gltf", &["cannot read"]);
+    assert_error(
+        load(Path::new("/nonexistent/scene.gltf")),
+        "/nonexistent/scene.gltf",
+        &["cannot read"],
+    );
 }
 
 #[test]
@@ -53,9 +63,17 @@ fn empty_truncated_and_invalid_json() {
     assert_error(load(&empty), "empty.gltf", &["empty"]);
     let text = std::fs::read(scenes_dir().join("BoxTextured/BoxTextured.gltf")).unwrap();
     let truncated = dir.write("truncated.gltf", &text[..text.len() / 2]);
-    assert_error(load(&truncated), "truncated.gltf", &["not valid glTF JSON", "EOF"]);
+    assert_error(
+        load(&truncated),
+        "truncated.gltf",
+        &["not valid glTF JSON", "EOF"],
+    );
     let garbage = dir.write("garbage.gltf", b"hello, I am not glTF");
-    assert_error(load(&garbage), "garbage.gltf", &["not valid glTF JSON", "line 1"]);
+    assert_error(
+        load(&garbage),
+        "garbage.gltf",
+        &["not valid glTF JSON", "line 1"],
+    );
 }
 
 #[test]
@@ -65,7 +83,9 @@ fn truncated_glb_at_every_length_is_an_error() {
     let cuts = (0..2048).chain((2048..glb.len()).step_by(509));
     for cut in cuts {
         let result = load_slice_with_warnings(&glb[..cut], "cut.glb", None);
-        let message = result.expect_err("a truncated GLB must not load").to_string();
+        let message = result
+            .expect_err("a truncated GLB must not load")
+            .to_string();
         assert!(message.starts_with("cut.glb: "), "{cut}: {message}");
         if cut >= 12 {
             assert!(message.contains("truncated"), "{cut}: {message}");
@@ -78,10 +98,18 @@ fn glb_header_lies() {
     let mut header = b"glTF".to_vec();
     header.extend(2u32.to_le_bytes());
     header.extend(4u32.to_le_bytes()); // a total length smaller than the header
-    assert_error(load_slice_with_warnings(&header, "short.glb", None), "short.glb", &["invalid GLB", "length of 4"]);
+    assert_error(
+        load_slice_with_warnings(&header, "short.glb", None),
+        "short.glb",
+        &["invalid GLB", "length of 4"],
+    );
     let mut version = glint::scene::demo::DEMO_GLB.to_vec();
     version[4] = 1;
-    assert_error(load_slice_with_warnings(&version, "v1.glb", None), "v1.glb", &["GLB version 1"]);
+    assert_error(
+        load_slice_with_warnings(&version, "v1.glb", None),
+        "v1.glb",
+        &["GLB version 1"],
+    );
 }
 
 /// Copies BoxTextured's files except `omit` into a temporary folder.
@@ -89,7 +117,10 @@ fn box_textured_without(omit: &str) -> (TempDir, std::path::PathBuf) {
     let dir = TempDir::new("box");
     for name in ["BoxTextured.gltf", "BoxTextured0.bin", "CesiumLogoFlat.png"] {
         if name != omit {
-            dir.write(name, &std::fs::read(scenes_dir().join("BoxTextured").join(name)).unwrap());
+            dir.write(
+                name,
+                &std::fs::read(scenes_dir().join("BoxTextured").join(name)).unwrap(),
+            );
         }
     }
     let path = dir.path().join("BoxTextured.gltf");
@@ -99,13 +130,21 @@ fn box_textured_without(omit: &str) -> (TempDir, std::path::PathBuf) {
 #[test]
 fn missing_bin_file_is_named() {
     let (_dir, path) = box_textured_without("BoxTextured0.bin");
-    assert_error(load(&path), "BoxTextured.gltf", &["buffer 0", "\"BoxTextured0.bin\"", "cannot be read"]);
+    assert_error(
+        load(&path),
+        "BoxTextured.gltf",
+        &["buffer 0", "\"BoxTextured0.bin\"", "cannot be read"],
+    );
 }
 
 #[test]
 fn missing_texture_file_is_named() {
     let (_dir, path) = box_textured_without("CesiumLogoFlat.png");
-    assert_error(load(&path), "BoxTextured.gltf", &["image 0", "\"CesiumLogoFlat.png\"", "cannot be read"]);
+    assert_error(
+        load(&path),
+        "BoxTextured.gltf",
+        &["image 0", "\"CesiumLogoFlat.png\"", "cannot be read"],
+    );
 }
 
 #[test]
@@ -114,7 +153,11 @@ fn external_reference_from_memory() {
     let mut doc = fixture.document(rest);
     doc["buffers"][0]["uri"] = json!("data.bin");
     let text = serde_json::to_vec(&doc).unwrap();
-    assert_error(load_slice_with_warnings(&text, "memory.gltf", None), "memory.gltf", &["buffer 0", "\"data.bin\"", "from memory"]);
+    assert_error(
+        load_slice_with_warnings(&text, "memory.gltf", None),
+        "memory.gltf",
+        &["buffer 0", "\"data.bin\"", "from memory"],
+    );
 }
 
 #[test]
@@ -123,7 +166,11 @@ fn bad_data_uri() {
     let mut doc = fixture.document(rest);
     doc["buffers"][0]["uri"] = json!("data:application/octet-stream;base64,@@@@");
     let text = serde_json::to_vec(&doc).unwrap();
-    assert_error(load_slice_with_warnings(&text, "b64.gltf", None), "b64.gltf", &["buffer 0", "invalid base64"]);
+    assert_error(
+        load_slice_with_warnings(&text, "b64.gltf", None),
+        "b64.gltf",
+        &["buffer 0", "invalid base64"],
+    );
 }
 
 #[test]
@@ -132,7 +179,11 @@ fn buffer_shorter_than_declared() {
     let mut doc = fixture.document(rest);
     doc["buffers"][0]["byteLength"] = json!(fixture.bin.len() + 100);
     let text = serde_json::to_vec(&doc).unwrap();
-    assert_error(load_slice_with_warnings(&text, "short.gltf", None), "short.gltf", &["buffer 0", "truncated"]);
+    assert_error(
+        load_slice_with_warnings(&text, "short.gltf", None),
+        "short.gltf",
+        &["buffer 0", "truncated"],
+    );
 }
 
 #[test]
@@ -142,7 +193,11 @@ fn accessor_index_out_of_range() {
     assert_error(
         fixture.load(rest),
         "fixture.gltf",
-        &["mesh 0 / primitive 0", "NORMAL refers to accessor 99", "only 2 accessors"],
+        &[
+            "mesh 0 / primitive 0",
+            "NORMAL refers to accessor 99",
+            "only 2 accessors",
+        ],
     );
 }
 
@@ -150,7 +205,11 @@ fn accessor_index_out_of_range() {
 fn other_schema_errors_give_the_json_path() {
     let (fixture, mut rest) = triangle_fixture();
     rest["nodes"][0]["mesh"] = json!(7);
-    assert_error(fixture.load(rest), "fixture.gltf", &["invalid glTF", "nodes[0].mesh"]);
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["invalid glTF", "nodes[0].mesh"],
+    );
 }
 
 #[test]
@@ -160,7 +219,11 @@ fn accessor_bytes_past_its_buffer_view() {
     assert_error(
         fixture.load(rest),
         "fixture.gltf",
-        &["node 0 / mesh 0 / primitive 0", "POSITION accessor 0", "needs 360 bytes of buffer view 0, which has 36"],
+        &[
+            "node 0 / mesh 0 / primitive 0",
+            "POSITION accessor 0",
+            "needs 360 bytes of buffer view 0, which has 36",
+        ],
     );
 }
 
@@ -168,26 +231,46 @@ fn accessor_bytes_past_its_buffer_view() {
 fn buffer_view_past_its_buffer() {
     let (mut fixture, rest) = triangle_fixture();
     fixture.views[1]["byteLength"] = json!(1000);
-    assert_error(fixture.load(rest), "fixture.gltf", &["buffer view 1", "outside buffer 0"]);
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["buffer view 1", "outside buffer 0"],
+    );
 }
 
 #[test]
 fn accessor_with_count_zero_or_short_stride_or_wrong_type() {
     let (mut fixture, rest) = triangle_fixture();
     fixture.accessors[1]["count"] = json!(0);
-    assert_error(fixture.load(rest.clone()), "fixture.gltf", &["indices accessor 1", "count 0"]);
+    assert_error(
+        fixture.load(rest.clone()),
+        "fixture.gltf",
+        &["indices accessor 1", "count 0"],
+    );
 
     let (mut fixture, rest2) = triangle_fixture();
     fixture.views[0]["byteStride"] = json!(4);
-    assert_error(fixture.load(rest2), "fixture.gltf", &["POSITION accessor 0", "byteStride 4", "12-byte element"]);
+    assert_error(
+        fixture.load(rest2),
+        "fixture.gltf",
+        &["POSITION accessor 0", "byteStride 4", "12-byte element"],
+    );
 
     let (mut fixture, rest3) = triangle_fixture();
     fixture.accessors[0]["type"] = json!("VEC2");
-    assert_error(fixture.load(rest3), "fixture.gltf", &["POSITION accessor 0", "has type VEC2 FLOAT", "VEC3 FLOAT"]);
+    assert_error(
+        fixture.load(rest3),
+        "fixture.gltf",
+        &["POSITION accessor 0", "has type VEC2 FLOAT", "VEC3 FLOAT"],
+    );
 
     let (mut fixture, rest4) = triangle_fixture();
     fixture.accessors[1]["componentType"] = json!(5126);
-    assert_error(fixture.load(rest4), "fixture.gltf", &["indices accessor 1", "SCALAR FLOAT"]);
+    assert_error(
+        fixture.load(rest4),
+        "fixture.gltf",
+        &["indices accessor 1", "SCALAR FLOAT"],
+    );
 }
 
 #[test]
@@ -203,7 +286,11 @@ fn index_past_the_vertex_count() {
     assert_error(
         result,
         "fixture.gltf",
-        &["node \"lid\" / mesh 0 / primitive 0", "indices accessor 1", "index 5 is 5, past the 3 vertices"],
+        &[
+            "node \"lid\" / mesh 0 / primitive 0",
+            "indices accessor 1",
+            "index 5 is 5, past the 3 vertices",
+        ],
     );
 }
 
@@ -219,7 +306,11 @@ fn nan_and_infinite_positions() {
             "nodes": [{"mesh": 0}],
             "meshes": [{"primitives": [{"attributes": {"POSITION": position}}]}]
         }));
-        assert_error(result, "fixture.gltf", &["POSITION accessor 0", "vertex 1", "not finite"]);
+        assert_error(
+            result,
+            "fixture.gltf",
+            &["POSITION accessor 0", "vertex 1", "not finite"],
+        );
     }
 }
 
@@ -231,7 +322,10 @@ fn unsupported_required_extension_is_named() {
     assert_error(
         fixture.load(rest),
         "fixture.gltf",
-        &["requires extension KHR_draco_mesh_compression", "supported: KHR_lights_punctual"],
+        &[
+            "requires extension KHR_draco_mesh_compression",
+            "supported: KHR_lights_punctual",
+        ],
     );
 }
 
@@ -241,7 +335,10 @@ fn used_but_unsupported_extension_is_a_warning() {
     rest["extensionsUsed"] = json!(["KHR_materials_clearcoat"]);
     let loaded = fixture.load(rest).unwrap();
     assert_eq!(loaded.warnings.len(), 1);
-    assert!(loaded.warnings[0].contains("KHR_materials_clearcoat") && loaded.warnings[0].contains("ignored"));
+    assert!(
+        loaded.warnings[0].contains("KHR_materials_clearcoat")
+            && loaded.warnings[0].contains("ignored")
+    );
 }
 
 #[test]
@@ -250,15 +347,24 @@ fn texture_that_does_not_decode() {
     rest["meshes"][0]["primitives"][0]["material"] = json!(0);
     rest["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
     rest["textures"] = json!([{"source": 0}]);
-    rest["images"] = json!([{"uri": data_uri("image/png", b"\x89PNG but not really"), "name": "broken"}]);
-    assert_error(fixture.load(rest), "fixture.gltf", &["image 0 \"broken\"", "cannot decode"]);
+    rest["images"] =
+        json!([{"uri": data_uri("image/png", b"\x89PNG but not really"), "name": "broken"}]);
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["image 0 \"broken\"", "cannot decode"],
+    );
 }
 
 #[test]
 fn node_cycle() {
     let (fixture, mut rest) = triangle_fixture();
     rest["nodes"] = json!([{"mesh": 0, "children": [1]}, {"children": [0]}]);
-    assert_error(fixture.load(rest), "fixture.gltf", &["node", "reached twice"]);
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["node", "reached twice"],
+    );
 }
 
 #[test]
@@ -267,16 +373,28 @@ fn bad_light_and_camera_values() {
     rest["extensions"] = json!({"KHR_lights_punctual": {"lights": [{"type": "spot", "intensity": 1,
         "spot": {"innerConeAngle": 0.8, "outerConeAngle": 0.4}}]}});
     rest["nodes"][0]["extensions"] = json!({"KHR_lights_punctual": {"light": 0}});
-    assert_error(fixture.load(rest), "fixture.gltf", &["node 0 / light 0", "cone angles"]);
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["node 0 / light 0", "cone angles"],
+    );
 
     let (fixture, mut rest) = triangle_fixture();
     rest["cameras"] = json!([{"type": "perspective", "perspective": {"yfov": 0, "znear": 0.1}}]);
     rest["nodes"][0]["camera"] = json!(0);
-    assert_error(fixture.load(rest), "fixture.gltf", &["node 0 / camera 0", "yfov is 0"]);
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["node 0 / camera 0", "yfov is 0"],
+    );
 
     let (fixture, mut rest) = triangle_fixture();
     rest["nodes"][0]["rotation"] = json!([0, 0, 0, 0]);
-    assert_error(fixture.load(rest), "fixture.gltf", &["node 0", "zero or NaN rotation"]);
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["node 0", "zero or NaN rotation"],
+    );
 }
 
 /// Random byte corruption of a valid GLB: whatever the damage, the loader returns (Ok or a
@@ -296,12 +414,16 @@ fn random_corruption_never_panics() {
             };
             bytes[at] = rng.random();
         }
-        let outcome = std::panic::catch_unwind(|| load_slice_with_warnings(&bytes, "corrupt.glb", None));
+        let outcome =
+            std::panic::catch_unwind(|| load_slice_with_warnings(&bytes, "corrupt.glb", None));
         match outcome {
             Ok(Ok(_)) => {}
             Ok(Err(err)) => {
                 let message = err.to_string();
-                assert!(message.starts_with("corrupt.glb: ") && !message.contains('\n'), "round {round}: {message}");
+                assert!(
+                    message.starts_with("corrupt.glb: ") && !message.contains('\n'),
+                    "round {round}: {message}"
+                );
             }
             Err(_) => panic!("round {round}: the loader panicked"),
         }

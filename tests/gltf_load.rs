@@ -22,7 +22,10 @@ const SHARED: &[&str] = &[
 /// walking the node tree itself (every shared asset uses TRIANGLES mode).
 fn triangles_by_gltf_crate(path: &std::path::Path) -> (usize, usize) {
     let gltf = gltf::Gltf::open(path).expect("gltf crate opens the sample");
-    let scene = gltf.default_scene().or_else(|| gltf.scenes().next()).expect("a scene");
+    let scene = gltf
+        .default_scene()
+        .or_else(|| gltf.scenes().next())
+        .expect("a scene");
     let (mut triangles, mut primitives) = (0, 0);
     let mut stack: Vec<gltf::Node> = scene.nodes().collect();
     while let Some(node) = stack.pop() {
@@ -31,7 +34,10 @@ fn triangles_by_gltf_crate(path: &std::path::Path) -> (usize, usize) {
                 assert_eq!(primitive.mode(), gltf::mesh::Mode::Triangles);
                 let count = match primitive.indices() {
                     Some(indices) => indices.count(),
-                    None => primitive.get(&gltf::Semantic::Positions).expect("POSITION").count(),
+                    None => primitive
+                        .get(&gltf::Semantic::Positions)
+                        .expect("POSITION")
+                        .count(),
                 };
                 triangles += count / 3;
                 primitives += 1;
@@ -51,19 +57,41 @@ fn shared_assets_load_with_independently_counted_triangles() {
         assert_eq!(scene.triangle_count(), triangles, "{name}");
         assert_eq!(scene.meshes.len(), primitives, "{name}");
         for mesh in &scene.meshes {
-            assert!(mesh.positions.iter().all(|p| p.is_finite()), "{name}: {}", mesh.name);
-            assert!(mesh.material < scene.materials.len(), "{name}: {}", mesh.name);
+            assert!(
+                mesh.positions.iter().all(|p| p.is_finite()),
+                "{name}: {}",
+                mesh.name
+            );
+            assert!(
+                mesh.material < scene.materials.len(),
+                "{name}: {}",
+                mesh.name
+            );
             if let Some(normals) = &mesh.normals {
                 assert_eq!(normals.len(), mesh.positions.len());
                 // Unit length after the inverse-transpose transform (zero only if the source
                 // normal was zero).
-                assert!(normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-3 || *n == Vec3::ZERO));
+                assert!(
+                    normals
+                        .iter()
+                        .all(|n| (n.length() - 1.0).abs() < 1e-3 || *n == Vec3::ZERO)
+                );
             }
         }
     }
     // Hard facts: a box is 12 triangles, the Cameras sample's square 2.
-    assert_eq!(load(&scenes_dir().join("BoxTextured/BoxTextured.gltf")).unwrap().triangle_count(), 12);
-    assert_eq!(load(&scenes_dir().join("Cameras/Cameras.gltf")).unwrap().triangle_count(), 2);
+    assert_eq!(
+        load(&scenes_dir().join("BoxTextured/BoxTextured.gltf"))
+            .unwrap()
+            .triangle_count(),
+        12
+    );
+    assert_eq!(
+        load(&scenes_dir().join("Cameras/Cameras.gltf"))
+            .unwrap()
+            .triangle_count(),
+        2
+    );
 }
 
 /// BoxTextured's root node has the matrix with columns (1,0,0), (0,0,−1), (0,1,0): it maps
@@ -82,10 +110,16 @@ fn box_textured_node_matrix_is_applied() {
     assert_eq!(loaded.positions.len(), file_positions.len());
     for (i, [x, y, z]) in file_positions.iter().copied().enumerate() {
         let expected = Vec3::new(x, z, -y);
-        assert!((loaded.positions[i] - expected).length() < 1e-6, "vertex {i}");
+        assert!(
+            (loaded.positions[i] - expected).length() < 1e-6,
+            "vertex {i}"
+        );
         let [nx, ny, nz] = file_normals[i];
         let normal = loaded.normals.as_ref().unwrap()[i];
-        assert!((normal - Vec3::new(nx, nz, -ny)).length() < 1e-5, "normal {i}");
+        assert!(
+            (normal - Vec3::new(nx, nz, -ny)).length() < 1e-5,
+            "normal {i}"
+        );
     }
     // A rotation keeps the winding: every face's geometric normal agrees with its shading
     // normals.
@@ -100,7 +134,10 @@ fn box_textured_node_matrix_is_applied() {
     assert_eq!(texture.wrap_s, WrapMode::MirroredRepeat);
     assert_eq!(texture.wrap_t, WrapMode::ClampToEdge);
     assert_eq!(texture.mag_filter, MagFilter::Linear);
-    assert_eq!(texture.texels.len(), (texture.width * texture.height) as usize);
+    assert_eq!(
+        texture.texels.len(),
+        (texture.width * texture.height) as usize
+    );
 }
 
 /// Cameras.gltf: node 1 holds a perspective camera (yfov 0.7, aspect 1), node 2 an
@@ -116,7 +153,13 @@ fn cameras_file_gives_both_projections() {
             aspect_ratio: Some(1.0)
         }
     );
-    assert_eq!(scene.cameras[1].projection, Projection::Orthographic { xmag: 1.0, ymag: 1.0 });
+    assert_eq!(
+        scene.cameras[1].projection,
+        Projection::Orthographic {
+            xmag: 1.0,
+            ymag: 1.0
+        }
+    );
     for camera in &scene.cameras {
         let m = camera.world_from_camera;
         assert!((m.w_axis.truncate() - Vec3::new(0.5, 0.5, 3.0)).length() < 1e-6);
@@ -140,14 +183,22 @@ fn camera_scale_is_removed() {
     let expected_forward = rotation * Vec3::NEG_Z;
     assert!((m.transform_vector3(Vec3::NEG_Z) - expected_forward).length() < 1e-5);
     assert!((m.transform_vector3(Vec3::Y) - rotation * Vec3::Y).length() < 1e-5);
-    assert!((Mat3::from_mat4(m).determinant() - 1.0).abs() < 1e-5, "rigid, unscaled");
+    assert!(
+        (Mat3::from_mat4(m).determinant() - 1.0).abs() < 1e-5,
+        "rigid, unscaled"
+    );
     assert!((m.w_axis.truncate() - Vec3::new(1.0, 2.0, 3.0)).length() < 1e-6);
 }
 
 /// A closed tetrahedron with outward winding and normals, instanced by a node.
 fn tetrahedron(fixture: &mut Fixture) -> serde_json::Value {
     // Four faces with their own vertices (flat normals), wound counter-clockwise from outside.
-    let corners = [[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]];
+    let corners = [
+        [1.0, 1.0, 1.0],
+        [1.0, -1.0, -1.0],
+        [-1.0, 1.0, -1.0],
+        [-1.0, -1.0, 1.0],
+    ];
     let faces = [[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]];
     let mut positions = Vec::new();
     let mut normals = Vec::new();
@@ -173,10 +224,19 @@ fn tetrahedron(fixture: &mut Fixture) -> serde_json::Value {
 #[test]
 fn negative_scale_keeps_outward_normals() {
     for (label, nodes) in [
-        ("mirror x", json!([{"mesh": 0, "scale": [-1, 1, 1], "translation": [5, 0, 0]}])),
-        ("mirror by matrix", json!([{"mesh": 0, "matrix": [2,0,0,0, 0,-1,0,0, 0,0,1,0, 0,0,0,1]}])),
+        (
+            "mirror x",
+            json!([{"mesh": 0, "scale": [-1, 1, 1], "translation": [5, 0, 0]}]),
+        ),
+        (
+            "mirror by matrix",
+            json!([{"mesh": 0, "matrix": [2,0,0,0, 0,-1,0,0, 0,0,1,0, 0,0,0,1]}]),
+        ),
         // Two mirrors cancel: parent mirrors x, child mirrors y.
-        ("double mirror", json!([{"children": [1], "scale": [-1, 1, 1]}, {"mesh": 0, "scale": [1, -1, 1]}])),
+        (
+            "double mirror",
+            json!([{"children": [1], "scale": [-1, 1, 1]}, {"mesh": 0, "scale": [1, -1, 1]}]),
+        ),
     ] {
         let mut fixture = Fixture::new();
         let mesh = tetrahedron(&mut fixture);
@@ -190,10 +250,16 @@ fn negative_scale_keeps_outward_normals() {
             let [a, b, c] = mesh.indices[t].map(|i| mesh.positions[i as usize]);
             let outward = (a + b + c) / 3.0 - centre;
             let geometric = triangle_normal(mesh, t);
-            assert!(geometric.dot(outward) > 0.0, "{label}: triangle {t} winds inwards");
+            assert!(
+                geometric.dot(outward) > 0.0,
+                "{label}: triangle {t} winds inwards"
+            );
             for i in mesh.indices[t] {
                 let shading = mesh.normals.as_ref().unwrap()[i as usize];
-                assert!(shading.dot(outward) > 0.0, "{label}: normal of vertex {i} points inwards");
+                assert!(
+                    shading.dot(outward) > 0.0,
+                    "{label}: normal of vertex {i} points inwards"
+                );
                 assert!((shading.length() - 1.0).abs() < 1e-5);
                 let tangent = mesh.tangents.as_ref().unwrap()[i as usize];
                 assert_eq!(tangent.w, if mirrored { -1.0 } else { 1.0 }, "{label}");
@@ -222,7 +288,10 @@ fn normals_stay_perpendicular_under_non_uniform_scale() {
         .unwrap();
     let mesh = &loaded.scene.meshes[0];
     let normal = mesh.normals.as_ref().unwrap()[0];
-    for edge in [mesh.positions[1] - mesh.positions[0], mesh.positions[2] - mesh.positions[0]] {
+    for edge in [
+        mesh.positions[1] - mesh.positions[0],
+        mesh.positions[2] - mesh.positions[0],
+    ] {
         assert!(normal.dot(edge.normalize()).abs() < 1e-5);
     }
     assert!(normal.dot(triangle_normal(mesh, 0)) > 0.0);
@@ -259,9 +328,21 @@ fn strip_and_fan_become_spec_triangles() {
     let mut fixture = Fixture::new();
     // A planar zig-zag (strip) and a planar fan around vertex 0, both counter-clockwise
     // seen from +Z.
-    let strip = fixture.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 2.0, 0.0]]);
+    let strip = fixture.positions(&[
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 2.0, 0.0],
+    ]);
     let strip_indices = fixture.indices_u16(&[0, 1, 2, 3, 4]);
-    let fan = fixture.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+    let fan = fixture.positions(&[
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+    ]);
     let loaded = fixture
         .load(json!({
             "scenes": [{"nodes": [0]}],
@@ -278,7 +359,11 @@ fn strip_and_fan_become_spec_triangles() {
     assert_eq!(fan.indices, vec![[1, 2, 0], [2, 3, 0], [3, 4, 0]]);
     for mesh in [strip, fan] {
         for t in 0..mesh.indices.len() {
-            assert!(triangle_normal(mesh, t).z > 0.0, "{}: triangle {t} flipped", mesh.name);
+            assert!(
+                triangle_normal(mesh, t).z > 0.0,
+                "{}: triangle {t} flipped",
+                mesh.name
+            );
         }
     }
 }
@@ -309,9 +394,16 @@ fn texture_transform_matches_the_spec_example() {
     let material = &loaded.scene.materials[0];
     let base = material.base_color_texture.unwrap();
     assert_eq!(base.texcoord, 1);
-    for (uv, expected) in [((0.0, 0.0), (0.0, 1.0)), ((1.0, 0.0), (0.0, 0.5)), ((0.0, 1.0), (0.5, 1.0))] {
+    for (uv, expected) in [
+        ((0.0, 0.0), (0.0, 1.0)),
+        ((1.0, 0.0), (0.0, 0.5)),
+        ((0.0, 1.0), (0.5, 1.0)),
+    ] {
         let got = base.transform.transform_point2(Vec2::new(uv.0, uv.1));
-        assert!((got - Vec2::new(expected.0, expected.1)).length() < 1e-6, "{uv:?} → {got}");
+        assert!(
+            (got - Vec2::new(expected.0, expected.1)).length() < 1e-6,
+            "{uv:?} → {got}"
+        );
     }
     let emissive = material.emissive_texture.unwrap();
     assert_eq!(emissive.transform, Affine2::IDENTITY);
@@ -348,7 +440,10 @@ fn srgb_texels_decode_with_the_exact_curve() {
     assert!((texel.w - 128.0 / 255.0).abs() < 1e-7, "alpha is linear");
     assert_eq!(texture.texels[1], Vec4::new(0.0, 0.0, 0.0, 1.0));
     assert_eq!(texture.mag_filter, MagFilter::Nearest);
-    assert_eq!((texture.wrap_s, texture.wrap_t), (WrapMode::ClampToEdge, WrapMode::Repeat));
+    assert_eq!(
+        (texture.wrap_s, texture.wrap_t),
+        (WrapMode::ClampToEdge, WrapMode::Repeat)
+    );
 }
 
 /// Point, spot and directional lights: positions from the composed transforms, directions
@@ -402,11 +497,16 @@ fn punctual_lights_in_world_space() {
     assert_eq!(range, None);
     assert_eq!(cos_inner, 1.0);
     assert!((cos_outer - FRAC_PI_4.cos()).abs() < 1e-6);
-    let Light::Directional { direction, irradiance } = lights[2] else {
+    let Light::Directional {
+        direction,
+        irradiance,
+    } = lights[2]
+    else {
         panic!("light 2 must be directional: {:?}", lights[2])
     };
     // World −Z: parent R_z(0.3)·S(3,1,1) applied to the child's −Y, then normalised.
-    let expected = (Quat::from_rotation_z(0.3) * (Vec3::new(3.0, 1.0, 1.0) * Vec3::NEG_Y)).normalize();
+    let expected =
+        (Quat::from_rotation_z(0.3) * (Vec3::new(3.0, 1.0, 1.0) * Vec3::NEG_Y)).normalize();
     assert!((direction - expected).length() < 1e-6);
     assert!((direction.length() - 1.0).abs() < 1e-6);
     assert_eq!(irradiance, Vec3::splat(3.0));
@@ -427,7 +527,10 @@ fn normalized_integer_attributes_become_floats() {
     let view = fixture.view(&padded);
     fixture.views[view]["byteStride"] = json!(4);
     let color = fixture.accessor(json!({"bufferView": view, "componentType": 5121, "normalized": true, "count": 3, "type": "VEC3"}));
-    let uv: Vec<u8> = [0u16, 65535, 32768, 0, 65535, 65535].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let uv: Vec<u8> = [0u16, 65535, 32768, 0, 65535, 65535]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
     let view = fixture.view(&uv);
     let texcoord = fixture.accessor(json!({"bufferView": view, "componentType": 5123, "normalized": true, "count": 3, "type": "VEC2"}));
     let loaded = fixture
@@ -440,8 +543,19 @@ fn normalized_integer_attributes_become_floats() {
     let mesh = &loaded.scene.meshes[0];
     let colors_out = mesh.colors.as_ref().unwrap();
     let close = |a: Vec4, b: Vec4| (a - b).abs().max_element() < 1e-6;
-    assert!(close(colors_out[0], Vec4::new(1.0, 0.0, 51.0 / 255.0, 1.0)), "{}", colors_out[0]);
-    assert!(close(colors_out[2], Vec4::new(10.0 / 255.0, 20.0 / 255.0, 30.0 / 255.0, 1.0)), "{}", colors_out[2]);
+    assert!(
+        close(colors_out[0], Vec4::new(1.0, 0.0, 51.0 / 255.0, 1.0)),
+        "{}",
+        colors_out[0]
+    );
+    assert!(
+        close(
+            colors_out[2],
+            Vec4::new(10.0 / 255.0, 20.0 / 255.0, 30.0 / 255.0, 1.0)
+        ),
+        "{}",
+        colors_out[2]
+    );
     let uvs = mesh.texcoords[0].as_ref().unwrap();
     assert_eq!(uvs[0], Vec2::new(0.0, 1.0));
     assert!((uvs[1].x - 32768.0 / 65535.0).abs() < 1e-7);
@@ -472,13 +586,19 @@ fn default_material_and_emissive_strength() {
     assert_eq!(scene.materials.len(), 2);
     let default = &scene.materials[scene.meshes[0].material];
     assert_eq!(scene.meshes[0].material, 1);
-    assert_eq!((default.base_color, default.metallic, default.roughness), (Vec4::ONE, 1.0, 1.0));
+    assert_eq!(
+        (default.base_color, default.metallic, default.roughness),
+        (Vec4::ONE, 1.0, 1.0)
+    );
     assert!(!default.double_sided);
     let lamp = &scene.materials[scene.meshes[1].material];
     assert_eq!(lamp.name, "lamp");
     assert_eq!(lamp.emissive, Vec3::new(4.0, 2.0, 1.0));
     assert_eq!(lamp.base_color, Vec4::new(0.1, 0.2, 0.3, 1.0));
-    assert_eq!((lamp.metallic, lamp.roughness, lamp.double_sided), (0.0, 0.5, true));
+    assert_eq!(
+        (lamp.metallic, lamp.roughness, lamp.double_sided),
+        (0.0, 0.5, true)
+    );
 }
 
 /// Line primitives are skipped with a warning naming the primitive; the triangles load.
@@ -497,11 +617,21 @@ fn line_primitives_are_skipped_with_a_warning() {
         }))
         .unwrap();
     assert_eq!(loaded.scene.meshes.len(), 1);
-    assert_eq!(loaded.scene.meshes[0].name, "node \"wire\" / mesh 0 / primitive 1");
+    assert_eq!(
+        loaded.scene.meshes[0].name,
+        "node \"wire\" / mesh 0 / primitive 1"
+    );
     assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
     let warning = &loaded.warnings[0];
-    assert!(warning.contains("fixture.gltf") && warning.contains("node \"wire\" / mesh 0 / primitive 0"), "{warning}");
-    assert!(warning.contains("Lines") && warning.contains("skipped"), "{warning}");
+    assert!(
+        warning.contains("fixture.gltf")
+            && warning.contains("node \"wire\" / mesh 0 / primitive 0"),
+        "{warning}"
+    );
+    assert!(
+        warning.contains("Lines") && warning.contains("skipped"),
+        "{warning}"
+    );
 }
 
 /// A `.gltf` with an external `.bin` (percent-escaped name) and an external PNG loads from
@@ -522,7 +652,10 @@ fn external_files_resolve_next_to_the_scene() {
         "images": [{"uri": "tex.png"}]
     }));
     doc["buffers"][0]["uri"] = json!("my%20data.bin");
-    let path = dir.write("scene.gltf", serde_json::to_string(&doc).unwrap().as_bytes());
+    let path = dir.write(
+        "scene.gltf",
+        serde_json::to_string(&doc).unwrap().as_bytes(),
+    );
     let scene = load(&path).unwrap();
     assert_eq!(scene.triangle_count(), 1);
     assert_eq!(scene.textures[0].texels[0], Vec4::new(0.0, 1.0, 0.0, 1.0));
@@ -540,21 +673,42 @@ fn demo_scene_has_every_feature() {
     assert!(features.point_lights && features.spot_lights && features.directional_lights);
     assert!(features.mirrors && features.textures && features.emission);
     assert_eq!(scene.cameras.len(), 1);
-    assert!(scene.materials.iter().any(|m| m.metallic == 1.0 && m.roughness == 0.0));
+    assert!(
+        scene
+            .materials
+            .iter()
+            .any(|m| m.metallic == 1.0 && m.roughness == 0.0)
+    );
     // Every object sits on or above the floor plane y = 0.
     let (lo, _) = scene.bounds().unwrap();
     assert!(lo.y > -1e-5, "{lo}");
     // The point light over the floor: L = ρ/π · I/d² with the floor's albedo.
-    let floor = scene.meshes.iter().find(|m| m.name.contains("\"floor\"")).expect("floor");
+    let floor = scene
+        .meshes
+        .iter()
+        .find(|m| m.name.contains("\"floor\""))
+        .expect("floor");
     let albedo = scene.materials[floor.material].base_color.x;
     for light in &scene.lights {
-        if let Light::Point { position, intensity, .. } = light {
-            let radiance = albedo / std::f32::consts::PI * intensity.max_element() / (position.y * position.y);
-            assert!((0.1..1.0).contains(&radiance), "floor radiance under the point light: {radiance}");
+        if let Light::Point {
+            position,
+            intensity,
+            ..
+        } = light
+        {
+            let radiance =
+                albedo / std::f32::consts::PI * intensity.max_element() / (position.y * position.y);
+            assert!(
+                (0.1..1.0).contains(&radiance),
+                "floor radiance under the point light: {radiance}"
+            );
         }
         if let Light::Directional { irradiance, .. } = light {
             let radiance = albedo / std::f32::consts::PI * irradiance.max_element();
-            assert!((0.1..1.0).contains(&radiance), "floor radiance under the sun: {radiance}");
+            assert!(
+                (0.1..1.0).contains(&radiance),
+                "floor radiance under the sun: {radiance}"
+            );
         }
     }
 }

@@ -54,7 +54,12 @@ pub fn default_camera(scene: &Scene) -> Camera {
     let up = back.cross(right);
     Camera {
         name: "default camera".into(),
-        world_from_camera: Mat4::from_cols(right.extend(0.0), up.extend(0.0), back.extend(0.0), eye.extend(1.0)),
+        world_from_camera: Mat4::from_cols(
+            right.extend(0.0),
+            up.extend(0.0),
+            back.extend(0.0),
+            eye.extend(1.0),
+        ),
         projection: Projection::Perspective {
             yfov,
             aspect_ratio: None,
@@ -73,7 +78,11 @@ pub fn default_lights(scene: &Scene, camera: &Camera) -> Vec<Light> {
     let back = frame.transform_vector3(Vec3::Z);
     let towards_light = (up + 0.5 * left + back).normalize_or_zero();
     // A degenerate camera matrix has no frame to be "over the shoulder" of: light from above.
-    let towards_light = if towards_light == Vec3::ZERO { Vec3::Y } else { towards_light };
+    let towards_light = if towards_light == Vec3::ZERO {
+        Vec3::Y
+    } else {
+        towards_light
+    };
     vec![Light::Directional {
         direction: -towards_light,
         irradiance: Vec3::splat(DEFAULT_IRRADIANCE_W_PER_M2),
@@ -86,7 +95,9 @@ pub fn describe_camera(camera: &Camera) -> String {
     let eye = camera.world_from_camera.w_axis.truncate();
     let forward = camera.world_from_camera.transform_vector3(Vec3::NEG_Z);
     let fov = match camera.projection {
-        Projection::Perspective { yfov, .. } => format!("perspective camera, yfov {:.0}°", yfov.to_degrees()),
+        Projection::Perspective { yfov, .. } => {
+            format!("perspective camera, yfov {:.0}°", yfov.to_degrees())
+        }
         Projection::Orthographic { xmag, ymag } => format!("orthographic camera, {xmag} × {ymag}"),
     };
     format!(
@@ -102,17 +113,28 @@ pub fn describe_lights(lights: &[Light]) -> String {
     let parts: Vec<String> = lights
         .iter()
         .map(|light| match light {
-            Light::Directional { direction, irradiance } => format!(
+            Light::Directional {
+                direction,
+                irradiance,
+            } => format!(
                 "a directional light, E = {} W/m², from {}",
                 fmt_scalar_or_rgb(*irradiance),
                 fmt_vec(-*direction)
             ),
-            Light::Point { position, intensity, .. } => format!(
+            Light::Point {
+                position,
+                intensity,
+                ..
+            } => format!(
                 "a point light, I = {} W/sr, at {}",
                 fmt_scalar_or_rgb(*intensity),
                 fmt_vec(*position)
             ),
-            Light::Spot { position, intensity, .. } => format!(
+            Light::Spot {
+                position,
+                intensity,
+                ..
+            } => format!(
                 "a spot light, I = {} W/sr, at {}",
                 fmt_scalar_or_rgb(*intensity),
                 fmt_vec(*position)
@@ -127,7 +149,11 @@ fn fmt_vec(v: Vec3) -> String {
 }
 
 fn fmt_scalar_or_rgb(v: Vec3) -> String {
-    if v.x == v.y && v.y == v.z { format!("{}", v.x) } else { fmt_vec(v) }
+    if v.x == v.y && v.y == v.z {
+        format!("{}", v.x)
+    } else {
+        fmt_vec(v)
+    }
 }
 
 #[cfg(test)]
@@ -159,11 +185,18 @@ mod tests {
         let forward = camera.world_from_camera.transform_vector3(Vec3::NEG_Z);
         let centre = 0.5 * (lo + hi);
         let to_centre = (centre - eye).normalize();
-        assert!(forward.dot(to_centre) > 1.0 - 1e-5, "camera must look at the centre");
+        assert!(
+            forward.dot(to_centre) > 1.0 - 1e-5,
+            "camera must look at the centre"
+        );
         // The view direction is the documented one.
         assert!((-forward).dot(DEFAULT_VIEW_FROM.normalize()) > 1.0 - 1e-5);
         let radius = 0.5 * (hi - lo).length();
-        let radius = if radius > 0.0 { radius } else { Vec3::splat(0.5).length() };
+        let radius = if radius > 0.0 {
+            radius
+        } else {
+            Vec3::splat(0.5).length()
+        };
         // Sphere tangent to the cone: sin(half angle) = r / d.
         let d = (centre - eye).length();
         assert!((radius / d - (0.5 * yfov).sin()).abs() < 1e-5);
@@ -174,7 +207,10 @@ mod tests {
                 if i & 4 == 0 { lo.z } else { hi.z },
             );
             let angle = forward.angle_between(corner - eye);
-            assert!(angle <= 0.5 * yfov + 1e-5, "corner {corner} outside the field of view");
+            assert!(
+                angle <= 0.5 * yfov + 1e-5,
+                "corner {corner} outside the field of view"
+            );
         }
         // Rigid: unit orthogonal axes.
         let m = camera.world_from_camera;
@@ -219,18 +255,36 @@ mod tests {
         let camera = default_camera(&scene);
         let lights = default_lights(&scene, &camera);
         assert_eq!(lights.len(), 1);
-        let Light::Directional { direction, irradiance } = lights[0] else {
+        let Light::Directional {
+            direction,
+            irradiance,
+        } = lights[0]
+        else {
             panic!("default light must be directional")
         };
         assert!((direction.length() - 1.0).abs() < 1e-6);
         let albedo = 1.0;
         let radiance_facing = albedo / std::f32::consts::PI * irradiance;
-        assert!((radiance_facing - Vec3::splat(3.0 / std::f32::consts::PI)).abs().max_element() < 1e-6);
+        assert!(
+            (radiance_facing - Vec3::splat(3.0 / std::f32::consts::PI))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
         let frame = camera.world_from_camera;
         let towards_light = -direction;
-        assert!(towards_light.dot(frame.transform_vector3(Vec3::Y)) > 0.0, "from above");
-        assert!(towards_light.dot(frame.transform_vector3(Vec3::NEG_X)) > 0.0, "from the left");
-        assert!(towards_light.dot(frame.transform_vector3(Vec3::Z)) > 0.0, "from behind the camera");
+        assert!(
+            towards_light.dot(frame.transform_vector3(Vec3::Y)) > 0.0,
+            "from above"
+        );
+        assert!(
+            towards_light.dot(frame.transform_vector3(Vec3::NEG_X)) > 0.0,
+            "from the left"
+        );
+        assert!(
+            towards_light.dot(frame.transform_vector3(Vec3::Z)) > 0.0,
+            "from behind the camera"
+        );
         // A surface facing the camera is lit at cos θ = 2/3.
         assert!((towards_light.dot(frame.transform_vector3(Vec3::Z)) - 2.0 / 3.0).abs() < 1e-5);
         assert!(describe_lights(&lights).contains("E = 3 W/m²"));

@@ -100,7 +100,11 @@ pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
 }
 
 /// Like [`load_slice`], returning the warnings instead of printing them.
-pub fn load_slice_with_warnings(bytes: &[u8], label: &str, base_dir: Option<&Path>) -> Result<Loaded, LoadError> {
+pub fn load_slice_with_warnings(
+    bytes: &[u8],
+    label: &str,
+    base_dir: Option<&Path>,
+) -> Result<Loaded, LoadError> {
     load_bytes(
         bytes,
         Origin {
@@ -166,7 +170,10 @@ fn load_bytes(bytes: &[u8], origin: Origin<'_>) -> Result<Loaded, LoadError> {
         }
     }
     // Cameras in node order, whatever the traversal order.
-    let mut camera_nodes: Vec<&nodes::PlacedNode<'_>> = placed.iter().filter(|p| p.node.camera().is_some()).collect();
+    let mut camera_nodes: Vec<&nodes::PlacedNode<'_>> = placed
+        .iter()
+        .filter(|p| p.node.camera().is_some())
+        .collect();
     camera_nodes.sort_by_key(|p| p.node.index());
     for node in camera_nodes {
         if let Some(camera) = objects::camera(node, origin)? {

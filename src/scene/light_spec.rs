@@ -143,7 +143,9 @@ impl Params {
         }
         let non_negative = |key: &str, v: Option<f32>| match v {
             Some(v) if v >= 0.0 && v.is_finite() => Ok(v),
-            Some(v) => Err(format!("'{key}' is {v}; it must be finite and non-negative")),
+            Some(v) => Err(format!(
+                "'{key}' is {v}; it must be finite and non-negative"
+            )),
             None => Ok(0.0),
         };
         let range = match self.range {
@@ -153,13 +155,19 @@ impl Params {
         };
         let position = |p: Option<[f32; 3]>| {
             let p = Vec3::from(p.unwrap_or_default());
-            if p.is_finite() { Ok(p) } else { Err("'position' must be three finite numbers".to_string()) }
+            if p.is_finite() {
+                Ok(p)
+            } else {
+                Err("'position' must be three finite numbers".to_string())
+            }
         };
         let direction = |d: Option<[f32; 3]>| {
             let d = Vec3::from(d.unwrap_or_default());
             match d.try_normalize() {
                 Some(d) => Ok(d),
-                None => Err(format!("'direction' is {d}; it must be a non-zero finite vector")),
+                None => Err(format!(
+                    "'direction' is {d}; it must be a non-zero finite vector"
+                )),
             }
         };
         Ok(match kind {
@@ -215,7 +223,10 @@ pub fn parse_light(spec: &str) -> Result<Light, LightSpecError> {
     };
     for field in fields {
         let Some((key, value)) = field.split_once('=') else {
-            return Err(fail(format!("'{field}' is not key=value; expected {}", kind.format())));
+            return Err(fail(format!(
+                "'{field}' is not key=value; expected {}",
+                kind.format()
+            )));
         };
         let (key, value) = (key.trim(), value.trim());
         let scalar = || {
@@ -225,10 +236,13 @@ pub fn parse_light(spec: &str) -> Result<Light, LightSpecError> {
         };
         let vector = || {
             let parts: Vec<&str> = value.split(',').collect();
-            let numbers: Option<Vec<f32>> = parts.iter().map(|p| p.trim().parse::<f32>().ok()).collect();
+            let numbers: Option<Vec<f32>> =
+                parts.iter().map(|p| p.trim().parse::<f32>().ok()).collect();
             match numbers.as_deref() {
                 Some(&[x, y, z]) => Ok([x, y, z]),
-                _ => Err(fail(format!("'{key}' must be three comma-separated numbers X,Y,Z, got '{value}'"))),
+                _ => Err(fail(format!(
+                    "'{key}' must be three comma-separated numbers X,Y,Z, got '{value}'"
+                ))),
             }
         };
         let slot_taken = match key {
@@ -241,7 +255,10 @@ pub fn parse_light(spec: &str) -> Result<Light, LightSpecError> {
             "inner" => params.inner.replace(scalar()?).is_some(),
             "outer" => params.outer.replace(scalar()?).is_some(),
             other => {
-                return Err(fail(format!("unknown key '{other}'; expected {}", kind.format())));
+                return Err(fail(format!(
+                    "unknown key '{other}'; expected {}",
+                    kind.format()
+                )));
             }
         };
         if slot_taken {
@@ -261,8 +278,12 @@ struct LightsFile {
 
 /// Reads a lights file (format in the module documentation).
 pub fn load_lights_file(path: &Path) -> Result<Vec<Light>, LightSpecError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|err| LightSpecError(format!("{}: cannot read the lights file: {err}", path.display())))?;
+    let text = std::fs::read_to_string(path).map_err(|err| {
+        LightSpecError(format!(
+            "{}: cannot read the lights file: {err}",
+            path.display()
+        ))
+    })?;
     parse_lights_toml(&text, &path.display().to_string())
 }
 
@@ -299,7 +320,8 @@ mod tests {
 
     #[test]
     fn point_spec_carries_intensity_times_colour() {
-        let light = parse_light("point:position=1,2,3:intensity=50:color=1,0.9,0.8:range=10").unwrap();
+        let light =
+            parse_light("point:position=1,2,3:intensity=50:color=1,0.9,0.8:range=10").unwrap();
         assert_eq!(
             light,
             Light::Point {
@@ -312,7 +334,9 @@ mod tests {
 
     #[test]
     fn spot_spec_converts_degrees_to_cosines_and_normalises() {
-        let light = parse_light("spot:position=0,4,0:direction=0,-2,0:intensity=80:inner=20:outer=30").unwrap();
+        let light =
+            parse_light("spot:position=0,4,0:direction=0,-2,0:intensity=80:inner=20:outer=30")
+                .unwrap();
         let Light::Spot {
             direction,
             cos_inner,
@@ -333,8 +357,11 @@ mod tests {
 
     #[test]
     fn spot_defaults_are_the_extensions() {
-        let Light::Spot { cos_inner, cos_outer, .. } =
-            parse_light("spot:position=0,0,0:direction=1,0,0:intensity=1").unwrap()
+        let Light::Spot {
+            cos_inner,
+            cos_outer,
+            ..
+        } = parse_light("spot:position=0,0,0:direction=1,0,0:intensity=1").unwrap()
         else {
             panic!("expected a spot light")
         };
@@ -344,7 +371,8 @@ mod tests {
 
     #[test]
     fn directional_spec() {
-        let light = parse_light("directional:direction=0,-1,0:irradiance=3:color=1,0.5,0.25").unwrap();
+        let light =
+            parse_light("directional:direction=0,-1,0:irradiance=3:color=1,0.5,0.25").unwrap();
         assert_eq!(
             light,
             Light::Directional {
@@ -361,13 +389,31 @@ mod tests {
             ("lamp:position=0,0,0", "unknown light type 'lamp'"),
             ("point:position=0,0:intensity=1", "'position' must be three"),
             ("point:position=0,0,0", "missing 'intensity'"),
-            ("point:position=0,0,0:intensity=abc", "'intensity' must be a number"),
-            ("point:position=0,0,0:intensity=1:power=2", "unknown key 'power'"),
-            ("point:position=0,0,0:intensity=1:irradiance=2", "'irradiance' does not apply to a point"),
+            (
+                "point:position=0,0,0:intensity=abc",
+                "'intensity' must be a number",
+            ),
+            (
+                "point:position=0,0,0:intensity=1:power=2",
+                "unknown key 'power'",
+            ),
+            (
+                "point:position=0,0,0:intensity=1:irradiance=2",
+                "'irradiance' does not apply to a point",
+            ),
             ("point:position=0,0,0:intensity=-1", "'intensity' is -1"),
-            ("point:position=0,0,0:intensity=1:intensity=2", "'intensity' is given twice"),
-            ("spot:position=0,0,0:direction=0,0,0:intensity=1", "'direction'"),
-            ("spot:position=0,0,0:direction=0,0,1:intensity=1:inner=40:outer=30", "inner=40 and outer=30"),
+            (
+                "point:position=0,0,0:intensity=1:intensity=2",
+                "'intensity' is given twice",
+            ),
+            (
+                "spot:position=0,0,0:direction=0,0,0:intensity=1",
+                "'direction'",
+            ),
+            (
+                "spot:position=0,0,0:direction=0,0,1:intensity=1:inner=40:outer=30",
+                "inner=40 and outer=30",
+            ),
             ("directional:direction=0,-1,0", "missing 'irradiance'"),
             ("point:position", "not key=value"),
             ("point:position=0,0,0:intensity=1:range=0", "'range' is 0"),
@@ -396,22 +442,46 @@ mod tests {
         "#;
         let lights = parse_lights_toml(text, "lights.toml").unwrap();
         assert_eq!(lights.len(), 2);
-        assert_eq!(lights[0], parse_light("point:position=1,2,3:intensity=50:color=1,0.9,0.8:range=10").unwrap());
-        assert_eq!(lights[1], parse_light("directional:direction=0,-1,0:irradiance=3").unwrap());
+        assert_eq!(
+            lights[0],
+            parse_light("point:position=1,2,3:intensity=50:color=1,0.9,0.8:range=10").unwrap()
+        );
+        assert_eq!(
+            lights[1],
+            parse_light("directional:direction=0,-1,0:irradiance=3").unwrap()
+        );
     }
 
     #[test]
     fn bad_lights_files_name_file_light_and_key() {
-        let unknown = "[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = 1\nwatts = 3\n";
-        let err = parse_lights_toml(unknown, "my.toml").unwrap_err().to_string();
-        assert!(err.contains("my.toml") && err.contains("watts") && err.contains("line 5"), "{err}");
+        let unknown =
+            "[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = 1\nwatts = 3\n";
+        let err = parse_lights_toml(unknown, "my.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("my.toml") && err.contains("watts") && err.contains("line 5"),
+            "{err}"
+        );
         let missing = "[[light]]\ntype = \"spot\"\nposition = [0, 0, 0]\nintensity = 1\n";
-        let err = parse_lights_toml(missing, "my.toml").unwrap_err().to_string();
-        assert!(err.contains("my.toml: light 1: missing 'direction'"), "{err}");
+        let err = parse_lights_toml(missing, "my.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("my.toml: light 1: missing 'direction'"),
+            "{err}"
+        );
         let bad_type = "[[light]]\ntype = \"area\"\n";
-        let err = parse_lights_toml(bad_type, "my.toml").unwrap_err().to_string();
+        let err = parse_lights_toml(bad_type, "my.toml")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("area"), "{err}");
-        let err = load_lights_file(Path::new("/nonexistent/lights.toml")).unwrap_err().to_string();
-        assert!(err.contains("/nonexistent/lights.toml") && err.contains("cannot read"), "{err}");
+        let err = load_lights_file(Path::new("/nonexistent/lights.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("/nonexistent/lights.toml") && err.contains("cannot read"),
+            "{err}"
+        );
     }
 }

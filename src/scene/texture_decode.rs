@@ -117,8 +117,12 @@ mod tests {
     /// that of the nearest 8-bit code.
     #[test]
     fn sixteen_bit_png_keeps_precision() {
-        let image = image::ImageBuffer::<image::Rgba<u16>, _>::from_raw(1, 1, vec![32768u16, 0, 65535, 65535])
-            .expect("1x1 buffer");
+        let image = image::ImageBuffer::<image::Rgba<u16>, _>::from_raw(
+            1,
+            1,
+            vec![32768u16, 0, 65535, 65535],
+        )
+        .expect("1x1 buffer");
         let mut png = Vec::new();
         image::DynamicImage::ImageRgba16(image)
             .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)

@@ -30,10 +30,11 @@ impl Fixture {
 
     /// Appends raw bytes as a buffer view; returns the view index.
     pub fn view(&mut self, bytes: &[u8]) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
-        self.views.push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
         self.bin.extend_from_slice(bytes);
         self.views.len() - 1
     }
@@ -55,8 +56,17 @@ impl Fixture {
     pub fn positions(&mut self, points: &[[f32; 3]]) -> usize {
         let flat: Vec<f32> = points.iter().flatten().copied().collect();
         let index = self.floats(&flat, "VEC3", 3);
-        let lo = (0..3).map(|i| points.iter().map(|p| p[i]).fold(f32::INFINITY, f32::min)).collect::<Vec<_>>();
-        let hi = (0..3).map(|i| points.iter().map(|p| p[i]).fold(f32::NEG_INFINITY, f32::max)).collect::<Vec<_>>();
+        let lo = (0..3)
+            .map(|i| points.iter().map(|p| p[i]).fold(f32::INFINITY, f32::min))
+            .collect::<Vec<_>>();
+        let hi = (0..3)
+            .map(|i| {
+                points
+                    .iter()
+                    .map(|p| p[i])
+                    .fold(f32::NEG_INFINITY, f32::max)
+            })
+            .collect::<Vec<_>>();
         self.accessors[index]["min"] = json!(lo);
         self.accessors[index]["max"] = json!(hi);
         index
@@ -86,21 +96,36 @@ impl Fixture {
     }
 
     /// Loads the document from memory; errors and warnings name `fixture.gltf`.
-    pub fn load(&self, rest: Value) -> Result<glint::scene::gltf::Loaded, glint::scene::gltf::LoadError> {
-        glint::scene::gltf::load_slice_with_warnings(self.gltf_text(rest).as_bytes(), "fixture.gltf", None)
+    pub fn load(
+        &self,
+        rest: Value,
+    ) -> Result<glint::scene::gltf::Loaded, glint::scene::gltf::LoadError> {
+        glint::scene::gltf::load_slice_with_warnings(
+            self.gltf_text(rest).as_bytes(),
+            "fixture.gltf",
+            None,
+        )
     }
 }
 
 /// A base64 data URI.
 pub fn data_uri(media_type: &str, bytes: &[u8]) -> String {
-    format!("data:{media_type};base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
+    format!(
+        "data:{media_type};base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(bytes)
+    )
 }
 
 /// A PNG of the given RGBA8 texels.
 pub fn png(width: u32, height: u32, rgba: &[u8]) -> Vec<u8> {
     let image = image::RgbaImage::from_raw(width, height, rgba.to_vec()).expect("texel count");
     let mut bytes = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).expect("encode PNG");
+    image
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .expect("encode PNG");
     bytes
 }
 

@@ -81,7 +81,12 @@ fn data_type_name(t: DataType) -> &'static str {
 
 fn describe(l: &Layout) -> String {
     let norm = if l.normalized { " normalized" } else { "" };
-    format!("{} {}{}", dimensions_name(l.dimensions), data_type_name(l.data_type), norm)
+    format!(
+        "{} {}{}",
+        dimensions_name(l.dimensions),
+        data_type_name(l.data_type),
+        norm
+    )
 }
 
 /// Checks that `accessor`, used as `semantic` by `primitive`, has an accepted layout and
@@ -105,7 +110,11 @@ pub fn check(
             && (l.normalized == accessor.normalized() || l.data_type == DataType::F32)
     };
     if !allowed.iter().any(matches) {
-        let found = layout(accessor.dimensions(), accessor.data_type(), accessor.normalized());
+        let found = layout(
+            accessor.dimensions(),
+            accessor.data_type(),
+            accessor.normalized(),
+        );
         let accepted: Vec<String> = allowed.iter().map(describe).collect();
         return Err(fail(format!(
             "has type {}, but glTF allows only {} here (re-export the mesh)",
@@ -115,7 +124,9 @@ pub fn check(
     }
     let count = accessor.count();
     if count == 0 {
-        return Err(fail("has count 0; glTF requires at least 1 (re-export the mesh)".into()));
+        return Err(fail(
+            "has count 0; glTF requires at least 1 (re-export the mesh)".into(),
+        ));
     }
     let element = accessor.size();
     if let Some(view) = accessor.view() {
@@ -146,36 +157,84 @@ pub fn check(
         let indices = sparse.indices();
         let index_view = indices.view();
         let index_size = indices.index_type().size();
-        let index_bytes = view_bytes(&index_view, buffers, &format!("{primitive}: {semantic} sparse indices"), origin)?;
+        let index_bytes = view_bytes(
+            &index_view,
+            buffers,
+            &format!("{primitive}: {semantic} sparse indices"),
+            origin,
+        )?;
         let index_stride = index_view.stride().unwrap_or(index_size);
         if index_stride < index_size {
-            return Err(fail(format!("sparse indices: buffer view {} has a stride shorter than an index", index_view.index())));
+            return Err(fail(format!(
+                "sparse indices: buffer view {} has a stride shorter than an index",
+                index_view.index()
+            )));
         }
-        check_span(indices.offset(), index_stride, sparse_count, index_size, index_bytes.len())
-            .map_err(|needed| fail(format!("sparse indices need {needed} bytes of buffer view {}", index_view.index())))?;
+        check_span(
+            indices.offset(),
+            index_stride,
+            sparse_count,
+            index_size,
+            index_bytes.len(),
+        )
+        .map_err(|needed| {
+            fail(format!(
+                "sparse indices need {needed} bytes of buffer view {}",
+                index_view.index()
+            ))
+        })?;
         let values = sparse.values();
         let value_view = values.view();
-        let value_bytes = view_bytes(&value_view, buffers, &format!("{primitive}: {semantic} sparse values"), origin)?;
+        let value_bytes = view_bytes(
+            &value_view,
+            buffers,
+            &format!("{primitive}: {semantic} sparse values"),
+            origin,
+        )?;
         let value_stride = value_view.stride().unwrap_or(element);
         if value_stride < element {
-            return Err(fail(format!("sparse values: buffer view {} has a stride shorter than an element", value_view.index())));
+            return Err(fail(format!(
+                "sparse values: buffer view {} has a stride shorter than an element",
+                value_view.index()
+            )));
         }
-        check_span(values.offset(), value_stride, sparse_count, element, value_bytes.len())
-            .map_err(|needed| fail(format!("sparse values need {needed} bytes of buffer view {}", value_view.index())))?;
+        check_span(
+            values.offset(),
+            value_stride,
+            sparse_count,
+            element,
+            value_bytes.len(),
+        )
+        .map_err(|needed| {
+            fail(format!(
+                "sparse values need {needed} bytes of buffer view {}",
+                value_view.index()
+            ))
+        })?;
     }
     Ok(())
 }
 
 /// Checks that `count` elements of `element` bytes, `stride` apart from `offset`, fit in
 /// `available` bytes; on failure returns the bytes needed (saturated on overflow).
-fn check_span(offset: usize, stride: usize, count: usize, element: usize, available: usize) -> Result<(), usize> {
+fn check_span(
+    offset: usize,
+    stride: usize,
+    count: usize,
+    element: usize,
+    available: usize,
+) -> Result<(), usize> {
     let needed = count
         .checked_sub(1)
         .and_then(|last| last.checked_mul(stride))
         .and_then(|span| span.checked_add(element))
         .and_then(|span| span.checked_add(offset))
         .unwrap_or(usize::MAX);
-    if needed <= available { Ok(()) } else { Err(needed) }
+    if needed <= available {
+        Ok(())
+    } else {
+        Err(needed)
+    }
 }
 
 /// Collects a reader's values, or `count` defaults when the accessor has no buffer view

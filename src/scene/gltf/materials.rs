@@ -33,10 +33,16 @@ pub fn load(
 ) -> Result<Materials, LoadError> {
     let mut keys: Vec<TextureKey> = Vec::new();
     let mut slots: HashMap<TextureKey, usize> = HashMap::new();
-    let mut request = |info: Option<::gltf::texture::Info<'_>>, space, channel: &str, material: &str| {
+    let mut request = |info: Option<::gltf::texture::Info<'_>>,
+                       space,
+                       channel: &str,
+                       material: &str| {
         let info = info?;
         let transform = info.texture_transform();
-        let texcoord = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord()) as usize;
+        let texcoord = transform
+            .as_ref()
+            .and_then(|t| t.tex_coord())
+            .unwrap_or(info.tex_coord()) as usize;
         if texcoord > 1 {
             warnings.push(format!(
                 "{}: {material}: {channel} texture reads TEXCOORD_{texcoord}; glint keeps TEXCOORD_0 and _1 only, \
@@ -57,7 +63,9 @@ pub fn load(
         Some(TextureRef {
             texture,
             texcoord,
-            transform: transform.map_or(Affine2::IDENTITY, |t| uv_transform(t.offset(), t.rotation(), t.scale())),
+            transform: transform.map_or(Affine2::IDENTITY, |t| {
+                uv_transform(t.offset(), t.rotation(), t.scale())
+            }),
         })
     };
 
@@ -71,19 +79,34 @@ pub fn load(
         let pbr = material.pbr_metallic_roughness();
         let emissive_strength = material.emissive_strength().unwrap_or(1.0);
         materials.push(Material {
-            name: material.name().map_or_else(|| label.clone(), str::to_string),
+            name: material
+                .name()
+                .map_or_else(|| label.clone(), str::to_string),
             base_color: Vec4::from(pbr.base_color_factor()),
-            base_color_texture: request(pbr.base_color_texture(), ColorSpace::Srgb, "base colour", &label),
+            base_color_texture: request(
+                pbr.base_color_texture(),
+                ColorSpace::Srgb,
+                "base colour",
+                &label,
+            ),
             metallic: pbr.metallic_factor(),
             roughness: pbr.roughness_factor(),
             emissive: Vec3::from(material.emissive_factor()) * emissive_strength,
-            emissive_texture: request(material.emissive_texture(), ColorSpace::Srgb, "emissive", &label),
+            emissive_texture: request(
+                material.emissive_texture(),
+                ColorSpace::Srgb,
+                "emissive",
+                &label,
+            ),
             double_sided: material.double_sided(),
         });
     }
 
     let textures = decode_textures(document, buffers, &keys, origin)?;
-    Ok(Materials { materials, textures })
+    Ok(Materials {
+        materials,
+        textures,
+    })
 }
 
 /// KHR_texture_transform as an affine map on texture coordinates, uv' = T · R · S · uv.
@@ -111,7 +134,10 @@ fn decode_textures(
 
     // The distinct (image, colour space) pairs, with their encoded bytes read up front
     // (I/O is sequential; decoding is the expensive part and runs in parallel).
-    let mut image_keys: Vec<(usize, ColorSpace)> = keys.iter().map(|k| (image_of(k).index(), k.space)).collect();
+    let mut image_keys: Vec<(usize, ColorSpace)> = keys
+        .iter()
+        .map(|k| (image_of(k).index(), k.space))
+        .collect();
     image_keys.sort_by_key(|&(image, space)| (image, space == ColorSpace::Linear));
     image_keys.dedup();
     let mut encoded: HashMap<usize, (String, std::borrow::Cow<'_, [u8]>)> = HashMap::new();

@@ -28,14 +28,20 @@ pub fn flatten<'a>(
     origin: Origin<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<PlacedNode<'a>>, LoadError> {
-    let roots: Vec<::gltf::Node<'a>> = match document.default_scene().or_else(|| document.scenes().next()) {
+    let roots: Vec<::gltf::Node<'a>> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
         Some(scene) => scene.nodes().collect(),
         None => {
             let mut has_parent = vec![false; document.nodes().len()];
             for child in document.nodes().flat_map(|n| n.children()) {
                 has_parent[child.index()] = true;
             }
-            let roots: Vec<_> = document.nodes().filter(|n| !has_parent[n.index()]).collect();
+            let roots: Vec<_> = document
+                .nodes()
+                .filter(|n| !has_parent[n.index()])
+                .collect();
             if !roots.is_empty() {
                 warnings.push(format!(
                     "{}: the file defines no scene; rendering its {} root nodes",
@@ -50,7 +56,11 @@ pub fn flatten<'a>(
     let mut visited = vec![false; document.nodes().len()];
     let mut placed = Vec::new();
     // An explicit stack: a deep hierarchy must not overflow the call stack.
-    let mut stack: Vec<(::gltf::Node<'a>, Mat4)> = roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
+    let mut stack: Vec<(::gltf::Node<'a>, Mat4)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, Mat4::IDENTITY))
+        .collect();
     while let Some((node, world_from_parent)) = stack.pop() {
         if std::mem::replace(&mut visited[node.index()], true) {
             return Err(LoadError::Node {
@@ -61,8 +71,17 @@ pub fn flatten<'a>(
             });
         }
         let world_from_node = world_from_parent * local_transform(&node, origin)?;
-        stack.extend(node.children().collect::<Vec<_>>().into_iter().rev().map(|c| (c, world_from_node)));
-        placed.push(PlacedNode { node, world_from_node });
+        stack.extend(
+            node.children()
+                .collect::<Vec<_>>()
+                .into_iter()
+                .rev()
+                .map(|c| (c, world_from_node)),
+        );
+        placed.push(PlacedNode {
+            node,
+            world_from_node,
+        });
     }
     Ok(placed)
 }
@@ -83,14 +102,22 @@ fn local_transform(node: &::gltf::Node<'_>, origin: Origin<'_>) -> Result<Mat4, 
         } => {
             let rotation = Quat::from_array(rotation);
             // Exporters write quaternions a few ulps off unit length; a zero one is an error.
-            if !(rotation.length_squared() > 0.0) {
-                return Err(fail("has a zero or NaN rotation quaternion (fix the node's rotation)"));
+            if rotation.length_squared().is_nan() || rotation.length_squared() <= 0.0 {
+                return Err(fail(
+                    "has a zero or NaN rotation quaternion (fix the node's rotation)",
+                ));
             }
-            Mat4::from_scale_rotation_translation(Vec3::from(scale), rotation.normalize(), Vec3::from(translation))
+            Mat4::from_scale_rotation_translation(
+                Vec3::from(scale),
+                rotation.normalize(),
+                Vec3::from(translation),
+            )
         }
     };
     if !matrix.is_finite() {
-        return Err(fail("has a NaN or infinite transform (fix the node's matrix or TRS)"));
+        return Err(fail(
+            "has a NaN or infinite transform (fix the node's matrix or TRS)",
+        ));
     }
     Ok(matrix)
 }

@@ -16,7 +16,11 @@ pub fn camera(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Came
         return Ok(None);
     };
     let what = match camera.name() {
-        Some(name) => format!("{} / camera {} \"{name}\"", node_label(&placed.node), camera.index()),
+        Some(name) => format!(
+            "{} / camera {} \"{name}\"",
+            node_label(&placed.node),
+            camera.index()
+        ),
         None => format!("{} / camera {}", node_label(&placed.node), camera.index()),
     };
     let fail = |problem: String| LoadError::Node {
@@ -29,7 +33,9 @@ pub fn camera(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Came
     let up_hint = world.transform_vector3(Vec3::Y);
     let up = (up_hint - back * up_hint.dot(back)).normalize_or_zero();
     if back == Vec3::ZERO || up == Vec3::ZERO {
-        return Err(fail("the node's transform collapses the camera's axes (zero or degenerate scale)".into()));
+        return Err(fail(
+            "the node's transform collapses the camera's axes (zero or degenerate scale)".into(),
+        ));
     }
     let right = up.cross(back);
     let world_from_camera = Mat4::from_cols(
@@ -48,14 +54,18 @@ pub fn camera(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Came
             if let Some(aspect) = aspect_ratio
                 && !(aspect > 0.0 && aspect.is_finite())
             {
-                return Err(fail(format!("aspectRatio is {aspect}; it must be positive")));
+                return Err(fail(format!(
+                    "aspectRatio is {aspect}; it must be positive"
+                )));
             }
             Projection::Perspective { yfov, aspect_ratio }
         }
         ::gltf::camera::Projection::Orthographic(o) => {
             let (xmag, ymag) = (o.xmag(), o.ymag());
             if !(xmag != 0.0 && ymag != 0.0 && xmag.is_finite() && ymag.is_finite()) {
-                return Err(fail(format!("xmag {xmag} and ymag {ymag} must be finite and non-zero")));
+                return Err(fail(format!(
+                    "xmag {xmag} and ymag {ymag} must be finite and non-zero"
+                )));
             }
             Projection::Orthographic { xmag, ymag }
         }
@@ -78,7 +88,11 @@ pub fn light(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Light
         return Ok(None);
     };
     let what = match light.name() {
-        Some(name) => format!("{} / light {} \"{name}\"", node_label(&placed.node), light.index()),
+        Some(name) => format!(
+            "{} / light {} \"{name}\"",
+            node_label(&placed.node),
+            light.index()
+        ),
         None => format!("{} / light {}", node_label(&placed.node), light.index()),
     };
     let fail = |problem: String| LoadError::Node {
@@ -88,24 +102,32 @@ pub fn light(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Light
     };
     let intensity = light.intensity();
     if !(intensity >= 0.0 && intensity.is_finite()) {
-        return Err(fail(format!("intensity is {intensity}; it must be finite and non-negative")));
+        return Err(fail(format!(
+            "intensity is {intensity}; it must be finite and non-negative"
+        )));
     }
     let color = Vec3::from(light.color());
     if !(color.is_finite() && color.min_element() >= 0.0) {
-        return Err(fail(format!("color is {color}; its components must be finite and non-negative")));
+        return Err(fail(format!(
+            "color is {color}; its components must be finite and non-negative"
+        )));
     }
     let range = light.range();
     if let Some(r) = range
-        && !(r > 0.0)
+        && (r.is_nan() || r <= 0.0)
     {
-        return Err(fail(format!("range is {r}; it must be positive (or absent for no limit)")));
+        return Err(fail(format!(
+            "range is {r}; it must be positive (or absent for no limit)"
+        )));
     }
     let world = placed.world_from_node;
     let position = world.w_axis.truncate();
     let direction = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
     let needs_direction = !matches!(light.kind(), ::gltf::khr_lights_punctual::Kind::Point);
     if needs_direction && direction == Vec3::ZERO {
-        return Err(fail("the node's transform collapses the light's −Z axis (zero scale)".into()));
+        return Err(fail(
+            "the node's transform collapses the light's −Z axis (zero scale)".into(),
+        ));
     }
     let radiometric = color * intensity;
     Ok(Some(match light.kind() {
@@ -123,7 +145,10 @@ pub fn light(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Light
             outer_cone_angle,
         } => {
             let right_angle = std::f32::consts::FRAC_PI_2;
-            if !(0.0 <= inner_cone_angle && inner_cone_angle < outer_cone_angle && outer_cone_angle <= right_angle) {
+            if !(0.0 <= inner_cone_angle
+                && inner_cone_angle < outer_cone_angle
+                && outer_cone_angle <= right_angle)
+            {
                 return Err(fail(format!(
                     "cone angles inner {inner_cone_angle} and outer {outer_cone_angle} rad must satisfy \
                      0 ≤ inner < outer ≤ π/2"

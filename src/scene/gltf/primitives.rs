@@ -29,7 +29,10 @@ pub fn build(
     warnings: &mut Vec<String>,
 ) -> Result<Option<Mesh>, LoadError> {
     let mode = primitive.mode();
-    if matches!(mode, Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip) {
+    if matches!(
+        mode,
+        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip
+    ) {
         warnings.push(format!(
             "{}: {}: skipped: mode {mode:?} is not a surface; glint renders triangles only",
             ctx.origin.file.display(),
@@ -43,18 +46,31 @@ pub fn build(
         problem,
     };
     let check = |accessor: &::gltf::Accessor<'_>, semantic: &str, allowed| {
-        accessors::check(accessor, semantic, allowed, &ctx.label, ctx.buffers, ctx.origin)
+        accessors::check(
+            accessor,
+            semantic,
+            allowed,
+            &ctx.label,
+            ctx.buffers,
+            ctx.origin,
+        )
     };
     let reader = primitive.reader(|buffer| ctx.buffers.get(buffer.index()).map(Vec::as_slice));
 
     // POSITION is required by the schema, which the document passed.
     let Some(position_accessor) = primitive.get(&::gltf::Semantic::Positions) else {
-        return Err(fail("has no POSITION attribute (re-export the mesh)".into()));
+        return Err(fail(
+            "has no POSITION attribute (re-export the mesh)".into(),
+        ));
     };
     check(&position_accessor, "POSITION", VEC3_F32)?;
     let vertex_count = position_accessor.count();
-    let object_positions: Vec<[f32; 3]> = accessors::collect_or_zeros(reader.read_positions(), vertex_count);
-    if let Some(vertex) = object_positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+    let object_positions: Vec<[f32; 3]> =
+        accessors::collect_or_zeros(reader.read_positions(), vertex_count);
+    if let Some(vertex) = object_positions
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
         return Err(fail(format!(
             "POSITION accessor {}: vertex {vertex} is {:?}, not finite (fix the exporter's output)",
             position_accessor.index(),
@@ -66,7 +82,8 @@ pub fn build(
         Some(accessor) => {
             check(&accessor, "indices", INDICES)?;
             let count = accessor.count();
-            let indices = accessors::collect_or_zeros(reader.read_indices().map(|i| i.into_u32()), count);
+            let indices =
+                accessors::collect_or_zeros(reader.read_indices().map(|i| i.into_u32()), count);
             if let Some(bad) = indices.iter().position(|&i| i as usize >= vertex_count) {
                 return Err(fail(format!(
                     "indices accessor {}: index {bad} is {}, past the {vertex_count} vertices of POSITION accessor {} \
@@ -80,13 +97,15 @@ pub fn build(
         }
         None => {
             let Ok(count) = u32::try_from(vertex_count) else {
-                return Err(fail(format!("has {vertex_count} vertices, more than 32-bit indices can address")));
+                return Err(fail(format!(
+                    "has {vertex_count} vertices, more than 32-bit indices can address"
+                )));
             };
             (0..count).collect()
         }
     };
     let mut triangles = assemble_triangles(mode, &vertex_indices);
-    if mode == Mode::Triangles && vertex_indices.len() % 3 != 0 {
+    if mode == Mode::Triangles && !vertex_indices.len().is_multiple_of(3) {
         warnings.push(format!(
             "{}: {}: {} indices are not a multiple of 3; the last {} are ignored",
             ctx.origin.file.display(),
@@ -120,7 +139,10 @@ pub fn build(
         Some(accessor) => {
             check(&accessor, "NORMAL", VEC3_F32)?;
             same_count(&accessor, "NORMAL")?;
-            Some(accessors::collect_or_zeros(reader.read_normals(), vertex_count))
+            Some(accessors::collect_or_zeros(
+                reader.read_normals(),
+                vertex_count,
+            ))
         }
         None => None,
     };
@@ -128,7 +150,10 @@ pub fn build(
         Some(accessor) => {
             check(&accessor, "TANGENT", VEC4_F32)?;
             same_count(&accessor, "TANGENT")?;
-            Some(accessors::collect_or_zeros(reader.read_tangents(), vertex_count))
+            Some(accessors::collect_or_zeros(
+                reader.read_tangents(),
+                vertex_count,
+            ))
         }
         None => None,
     };
@@ -180,7 +205,11 @@ pub fn build(
     let tangents = object_tangents.map(|tangents| {
         tangents
             .into_iter()
-            .map(|[x, y, z, w]| (linear * Vec3::new(x, y, z)).normalize_or_zero().extend(w * handedness))
+            .map(|[x, y, z, w]| {
+                (linear * Vec3::new(x, y, z))
+                    .normalize_or_zero()
+                    .extend(w * handedness)
+            })
             .collect()
     });
     // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners so
@@ -210,7 +239,11 @@ pub fn build(
 pub fn normal_transform(linear: Mat3) -> Mat3 {
     let (a, b, c) = (linear.x_axis, linear.y_axis, linear.z_axis);
     let cofactor = Mat3::from_cols(b.cross(c), c.cross(a), a.cross(b));
-    if linear.determinant() < 0.0 { -cofactor } else { cofactor }
+    if linear.determinant() < 0.0 {
+        -cofactor
+    } else {
+        cofactor
+    }
 }
 
 /// Triangles (counter-clockwise in the file's winding) from a primitive's vertex indices.
@@ -220,7 +253,10 @@ pub fn normal_transform(linear: Mat3) -> Mat3 {
 /// orientation; fan triangle i is (v_{i+1}, v_{i+2}, v_0).
 pub fn assemble_triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
     match mode {
-        Mode::Triangles => indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+        Mode::Triangles => indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect(),
         Mode::TriangleStrip => (0..indices.len().saturating_sub(2))
             .map(|i| {
                 let odd = i % 2;

@@ -55,15 +55,19 @@ impl Origin<'_> {
 
 /// Parses `bytes` (JSON or GLB), checks required extensions, validates the document and
 /// loads its buffers. Unsupported extensions that are merely used are reported in `warnings`.
-pub fn parse(bytes: &[u8], origin: Origin<'_>, warnings: &mut Vec<String>) -> Result<Source, LoadError> {
+pub fn parse(
+    bytes: &[u8],
+    origin: Origin<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<Source, LoadError> {
     if bytes.is_empty() {
         return Err(origin.syntax("the file is empty (re-export or re-download it)"));
     }
     if bytes.starts_with(b"glTF") {
         check_glb_header(bytes, origin)?;
     }
-    let ::gltf::Gltf { document, blob } =
-        ::gltf::Gltf::from_slice_without_validation(bytes).map_err(|err| match err {
+    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|err| match err {
             ::gltf::Error::Binary(err) => origin.syntax(describe_glb_error(&err)),
             ::gltf::Error::Deserialize(err) => origin.syntax(format!(
                 "not valid glTF JSON: {err} (the file is truncated or not a glTF file)"
@@ -93,7 +97,8 @@ fn check_glb_header(bytes: &[u8], origin: Origin<'_>) -> Result<(), LoadError> {
             bytes.len()
         )));
     };
-    let word = |i: usize| u32::from_le_bytes([header[i], header[i + 1], header[i + 2], header[i + 3]]);
+    let word =
+        |i: usize| u32::from_le_bytes([header[i], header[i + 1], header[i + 2], header[i + 3]]);
     let (version, length) = (word(4), word(8));
     if version != 2 {
         return Err(origin.syntax(format!(
@@ -125,7 +130,10 @@ fn describe_glb_error(err: &::gltf::binary::Error) -> String {
         Error::Io(err) => format!("truncated GLB: {err} (re-export or re-download it)"),
         Error::Version(v) => format!("GLB version {v} is not supported; glint reads glTF 2.0"),
         Error::Magic(m) => format!("not a GLB file (magic {m:?})"),
-        Error::Length { length, length_read } => format!(
+        Error::Length {
+            length,
+            length_read,
+        } => format!(
             "truncated GLB: {length} bytes of content declared, {length_read} present (re-export or re-download it)"
         ),
         Error::ChunkLength {
@@ -171,18 +179,25 @@ fn check_extensions(
 
 /// Names the primitive and the attribute when a mesh refers to an accessor that does not
 /// exist (the schema check would only give the JSON path).
-fn check_mesh_accessor_references(root: &::gltf::json::Root, origin: Origin<'_>) -> Result<(), LoadError> {
+fn check_mesh_accessor_references(
+    root: &::gltf::json::Root,
+    origin: Origin<'_>,
+) -> Result<(), LoadError> {
     let count = root.accessors.len();
     for (mesh_index, mesh) in root.meshes.iter().enumerate() {
         for (primitive_index, primitive) in mesh.primitives.iter().enumerate() {
             let attributes = primitive.attributes.iter().map(|(semantic, index)| {
                 let name = match semantic {
                     ::gltf::json::validation::Checked::Valid(s) => s.to_string(),
-                    ::gltf::json::validation::Checked::Invalid => "an unknown attribute".to_string(),
+                    ::gltf::json::validation::Checked::Invalid => {
+                        "an unknown attribute".to_string()
+                    }
                 };
                 (name, index.value())
             });
-            let indices = primitive.indices.map(|i| ("indices".to_string(), i.value()));
+            let indices = primitive
+                .indices
+                .map(|i| ("indices".to_string(), i.value()));
             for (what, accessor) in attributes.chain(indices) {
                 if accessor >= count {
                     return Err(LoadError::Primitive {
@@ -200,7 +215,9 @@ fn check_mesh_accessor_references(root: &::gltf::json::Root, origin: Origin<'_>)
     Ok(())
 }
 
-fn describe_validation(problems: &[(::gltf::json::Path, ::gltf::json::validation::Error)]) -> String {
+fn describe_validation(
+    problems: &[(::gltf::json::Path, ::gltf::json::validation::Error)],
+) -> String {
     /// Enough to locate the first problems without flooding the terminal.
     const SHOWN: usize = 3;
     let mut text = problems
@@ -250,7 +267,11 @@ fn load_buffers(
 
 /// The bytes a URI names: decoded from a base64 data URI, or read from a file relative to
 /// the scene's folder (percent-escapes such as `%20` decoded first).
-pub fn read_uri<'u>(uri: &'u str, what: &str, origin: Origin<'_>) -> Result<Cow<'u, [u8]>, LoadError> {
+pub fn read_uri<'u>(
+    uri: &'u str,
+    what: &str,
+    origin: Origin<'_>,
+) -> Result<Cow<'u, [u8]>, LoadError> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let Some((_media_type, payload)) = rest.split_once(";base64,") else {
             return Err(origin.data(
@@ -261,7 +282,12 @@ pub fn read_uri<'u>(uri: &'u str, what: &str, origin: Origin<'_>) -> Result<Cow<
         return base64::engine::general_purpose::STANDARD
             .decode(payload)
             .map(Cow::Owned)
-            .map_err(|err| origin.data(what, format!("has a data URI with invalid base64 ({err}); re-export the scene")));
+            .map_err(|err| {
+                origin.data(
+                    what,
+                    format!("has a data URI with invalid base64 ({err}); re-export the scene"),
+                )
+            });
     }
     if let Some((scheme, _)) = uri.split_once(':')
         && !scheme.contains('/')
@@ -277,8 +303,12 @@ pub fn read_uri<'u>(uri: &'u str, what: &str, origin: Origin<'_>) -> Result<Cow<
             format!("refers to the external file \"{uri}\", but this scene is loaded from memory; embed the data (GLB)"),
         ));
     };
-    let relative = urlencoding::decode(uri)
-        .map_err(|_| origin.data(what, format!("refers to \"{uri}\", whose %-escapes are not UTF-8; fix the URI")))?;
+    let relative = urlencoding::decode(uri).map_err(|_| {
+        origin.data(
+            what,
+            format!("refers to \"{uri}\", whose %-escapes are not UTF-8; fix the URI"),
+        )
+    })?;
     let resolved: PathBuf = base_dir.join(relative.as_ref());
     std::fs::read(&resolved)
         .map(Cow::Owned)
