@@ -458,20 +458,22 @@ fn punctual_lights_in_world_space() {
             "extensions": {"KHR_lights_punctual": {"lights": [
                 {"type": "point", "intensity": 10, "color": [1, 0.5, 0.25], "range": 4},
                 {"type": "spot", "intensity": 2, "spot": {}},
-                {"type": "directional", "intensity": 3}
+                {"type": "directional", "intensity": 3},
+                {"type": "spot", "intensity": 1, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}}
             ]}},
-            "scenes": [{"nodes": [0, 2, 3]}],
+            "scenes": [{"nodes": [0, 2, 3, 5]}],
             "nodes": [
                 {"children": [1], "translation": [10, 0, 0], "scale": [2, 2, 2]},
                 {"translation": [1, 2, 3], "extensions": {"KHR_lights_punctual": {"light": 0}}},
                 {"translation": [0, 5, 0], "rotation": down.to_array(), "extensions": {"KHR_lights_punctual": {"light": 1}}},
                 {"children": [4], "rotation": Quat::from_rotation_z(0.3).to_array(), "scale": [3, 1, 1]},
-                {"rotation": down.to_array(), "extensions": {"KHR_lights_punctual": {"light": 2}}}
+                {"rotation": down.to_array(), "extensions": {"KHR_lights_punctual": {"light": 2}}},
+                {"extensions": {"KHR_lights_punctual": {"light": 3}}}
             ]
         }))
         .unwrap();
     let lights = &loaded.scene.lights;
-    assert_eq!(lights.len(), 3);
+    assert_eq!(lights.len(), 4);
     assert_eq!(
         lights[0],
         Light::Point {
@@ -510,6 +512,17 @@ fn punctual_lights_in_world_space() {
     assert!((direction - expected).length() < 1e-6);
     assert!((direction.length() - 1.0).abs() < 1e-6);
     assert_eq!(irradiance, Vec3::splat(3.0));
+    let Light::Spot {
+        direction,
+        cos_inner,
+        cos_outer,
+        ..
+    } = lights[3]
+    else {
+        panic!("light 3 must be a spot: {:?}", lights[3])
+    };
+    assert_eq!(direction, Vec3::NEG_Z, "an unrotated node points down −Z");
+    assert_eq!((cos_inner, cos_outer), (0.2f32.cos(), 0.5f32.cos()));
 }
 
 /// COLOR_0 as normalized UNSIGNED_BYTE RGB and TEXCOORD_0 as normalized UNSIGNED_SHORT become
@@ -679,6 +692,22 @@ fn demo_scene_has_every_feature() {
             .iter()
             .any(|m| m.metallic == 1.0 && m.roughness == 0.0)
     );
+    // The camera sees every object: each mesh's centre lies inside its field of view.
+    let camera = &scene.cameras[0];
+    let Projection::Perspective { yfov, .. } = camera.projection else {
+        panic!("the demo camera is perspective")
+    };
+    let eye = camera.world_from_camera.w_axis.truncate();
+    let forward = camera.world_from_camera.transform_vector3(Vec3::NEG_Z);
+    for mesh in &scene.meshes {
+        let centre = mesh.positions.iter().copied().sum::<Vec3>() / mesh.positions.len() as f32;
+        let angle = forward.angle_between(centre - eye);
+        assert!(
+            angle < 0.5 * yfov,
+            "{} is out of view ({angle} rad)",
+            mesh.name
+        );
+    }
     // Every object sits on or above the floor plane y = 0.
     let (lo, _) = scene.bounds().unwrap();
     assert!(lo.y > -1e-5, "{lo}");

@@ -145,8 +145,14 @@ fn decode_textures(
         if encoded.contains_key(&image_index) {
             continue;
         }
+        // `image_index` came from a texture's source, which validation checked.
         let Some(image) = document.images().nth(image_index) else {
-            continue;
+            return Err(LoadError::Invalid {
+                path: origin.file.to_path_buf(),
+                message: format!(
+                    "image {image_index} does not exist (the file is corrupt; re-export it)"
+                ),
+            });
         };
         let label = image_label(&image);
         let bytes = match image.source() {
@@ -160,6 +166,7 @@ fn decode_textures(
     let decoded: Vec<((usize, ColorSpace), DecodedImage)> = image_keys
         .par_iter()
         .map(|&(image_index, space)| {
+            // Every image key's bytes were read above (or the load already failed).
             let (label, bytes) = &encoded[&image_index];
             decode_image(bytes, space)
                 .map(|image| ((image_index, space), image))
@@ -177,6 +184,7 @@ fn decode_textures(
         .map(|key| {
             let texture = &textures[key.texture];
             let image = image_of(key);
+            // Decoded above for every key's (image, colour space).
             let pixels = &decoded[&(image.index(), key.space)];
             let sampler = texture.sampler();
             Texture {

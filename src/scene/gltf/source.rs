@@ -328,7 +328,9 @@ pub fn view_bytes<'b>(
     what: &str,
     origin: Origin<'_>,
 ) -> Result<&'b [u8], LoadError> {
-    let buffer = &buffers[view.buffer().index()];
+    let buffer: &[u8] = buffers
+        .get(view.buffer().index())
+        .map_or(&[], Vec::as_slice);
     view.offset()
         .checked_add(view.length())
         .and_then(|end| buffer.get(view.offset()..end))
