@@ -429,3 +429,34 @@ fn random_corruption_never_panics() {
         }
     }
 }
+
+#[test]
+fn bad_sparse_accessor() {
+    let (mut fixture, rest) = triangle_fixture();
+    let sparse_indices = fixture.view(&[0u8; 4]);
+    let sparse_values = fixture.view(&[0u8; 12]);
+    fixture.accessors[0]["sparse"] = json!({
+        "count": 0,
+        "indices": {"bufferView": sparse_indices, "componentType": 5123},
+        "values": {"bufferView": sparse_values}
+    });
+    assert_error(
+        fixture.load(rest.clone()),
+        "fixture.gltf",
+        &["POSITION accessor 0", "sparse count of 0"],
+    );
+
+    let (mut fixture, rest) = triangle_fixture();
+    let sparse_indices = fixture.view(&[0u8; 4]);
+    let sparse_values = fixture.view(&[0u8; 12]);
+    fixture.accessors[0]["sparse"] = json!({
+        "count": 3,
+        "indices": {"bufferView": sparse_indices, "componentType": 5123},
+        "values": {"bufferView": sparse_values}
+    });
+    assert_error(
+        fixture.load(rest),
+        "fixture.gltf",
+        &["POSITION accessor 0", "sparse indices need 6 bytes"],
+    );
+}

@@ -741,3 +741,43 @@ fn demo_scene_has_every_feature() {
         }
     }
 }
+
+/// A sparse POSITION accessor replaces the listed vertices of its base data; a TRIANGLES
+/// index count that is not a multiple of 3 drops the remainder with a warning.
+#[test]
+fn sparse_positions_and_leftover_indices() {
+    let mut fixture = Fixture::new();
+    let position = fixture.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let sparse_indices = fixture.view(&1u16.to_le_bytes());
+    let sparse_values: Vec<u8> = [5.0f32, 0.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let sparse_values = fixture.view(&sparse_values);
+    fixture.accessors[position]["sparse"] = json!({
+        "count": 1,
+        "indices": {"bufferView": sparse_indices, "componentType": 5123},
+        "values": {"bufferView": sparse_values}
+    });
+    fixture.accessors[position]["max"] = json!([5, 1, 0]);
+    let indices = fixture.indices_u16(&[0, 1, 2, 2, 1]);
+    let loaded = fixture
+        .load(json!({
+            "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": position}, "indices": indices}]}]
+        }))
+        .unwrap();
+    let mesh = &loaded.scene.meshes[0];
+    assert_eq!(
+        mesh.positions,
+        vec![Vec3::ZERO, Vec3::new(5.0, 0.0, 0.0), Vec3::Y]
+    );
+    assert_eq!(mesh.indices, vec![[0, 1, 2]]);
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
+    assert!(
+        loaded.warnings[0].contains("5 indices are not a multiple of 3"),
+        "{}",
+        loaded.warnings[0]
+    );
+}
