@@ -9,6 +9,7 @@ pub mod demo;
 pub mod features;
 pub mod gltf;
 pub mod light_spec;
+pub mod texture_decode;
 
 use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
 
