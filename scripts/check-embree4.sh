@@ -14,14 +14,19 @@
 #
 # Usage: scripts/check-embree4.sh [ARGS...]   ARGS go to every test binary, e.g.
 #        scripts/check-embree4.sh --skip shared_assets_agree
-# Downloads are cached in .embree4/ (git-ignored) and the build in target/embree4, so a rerun
-# is fast and offline. Exits non-zero, naming the failed step, on any failure.
+# Downloads are cached in .embree4/ (git-ignored) and the build in target/embree4 (or
+# EMBREE4_TARGET_DIR), so a rerun is fast and offline. Exits non-zero, naming the failed step,
+# on any failure.
 # Versions (override through the environment): EMBREE4_SYS_VERSION, EMBREEX_VERSION.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 CACHE="$ROOT/.embree4"
-TARGET_DIR="$ROOT/target/embree4"
+# Its own target dir by default, so the everyday build keeps linking the system Embree. CI may
+# pass EMBREE4_TARGET_DIR=target to reuse the compiled dependencies (glint alone is rebuilt,
+# here and again by the next plain cargo command) instead of building them all a second time.
+TARGET_DIR="${EMBREE4_TARGET_DIR:-$ROOT/target/embree4}"
+case "$TARGET_DIR" in /*) ;; *) TARGET_DIR="$ROOT/$TARGET_DIR" ;; esac
 EMBREE4_SYS_VERSION="${EMBREE4_SYS_VERSION:-0.0.12}"
 EMBREEX_VERSION="${EMBREEX_VERSION:-4.4.0.post1}"
 # Warnings the shim must be free of, on both APIs.
