@@ -10,8 +10,18 @@ use glint::accel::embree::{self, EmbreeAccel};
 use glint::accel::{Accel, BuildOptions, BuildQuality, Ray, TriangleMesh};
 use glint::procedural;
 
+/// The handle count is process-wide: the tests in this file must not run at the same time.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
 #[test]
 fn thousands_of_scenes_release_their_handles() {
+    let _serial = serial();
     let small = procedural::displaced_sphere(1, 0.0, 1);
     let soup = procedural::triangle_soup(50, 0.1, 2);
     let meshes = [small.as_triangle_mesh(), soup.as_triangle_mesh()];
@@ -37,6 +47,7 @@ fn thousands_of_scenes_release_their_handles() {
 
 #[test]
 fn scenes_outlive_a_dropped_device() {
+    let _serial = serial();
     let mesh = procedural::displaced_sphere(1, 0.0, 1);
     let before = embree::live_handles();
     let device = std::sync::Arc::new(embree::Device::new().expect("device"));
@@ -59,6 +70,7 @@ fn scenes_outlive_a_dropped_device() {
 
 #[test]
 fn embree_errors_become_rust_errors() {
+    let _serial = serial();
     // An empty scene is valid; a mesh with no triangles is valid too. Rejections happen in
     // glint's own validation before Embree sees the data.
     let positions = [Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y];
