@@ -10,3 +10,8 @@ pub mod accel;
 pub mod procedural;
 pub mod scene;
 pub mod cli;
+pub mod geometry;
+pub mod light;
+pub mod material;
+pub mod output;
+pub mod render;

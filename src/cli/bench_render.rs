@@ -1,0 +1,1 @@
+//! Kernel-specialisation benchmark (wired into `glint bench` by the lead).
