@@ -89,9 +89,18 @@ fn lambertian_plane_under_a_point_light() {
         let out = render_with(&scene, &camera, backend, &centre_settings(64, 48));
         let light = DVec3::new(0.5, 1.5, -0.3);
         let seen = check(&out, &camera, quad, backend.name(), TOL, |p| {
-            plain(point_light_radiance(RHO, Vec3::new(10.0, 20.0, 5.0), light, p, quad.normal()))
+            plain(point_light_radiance(
+                RHO,
+                Vec3::new(10.0, 20.0, 5.0),
+                light,
+                p,
+                quad.normal(),
+            ))
         });
-        assert!(seen > 64 * 48 / 4, "{backend}: only {seen} pixels saw the plane");
+        assert!(
+            seen > 64 * 48 / 4,
+            "{backend}: only {seen} pixels saw the plane"
+        );
         assert_eq!(out.stats.rays.camera, 64 * 48);
         assert_eq!(out.stats.rays.shadow, seen_shadow_rays(&out));
     }
@@ -154,12 +163,16 @@ fn spot_light_inner_cone_falloff_and_outside() {
                 1.0 => full += 1,
                 _ => partial += 1,
             }
-            let unspotted = point_light_radiance(RHO, intensity, position.as_dvec3(), p, exact.normal());
+            let unspotted =
+                point_light_radiance(RHO, intensity, position.as_dvec3(), p, exact.normal());
             // t = (cd − cos_outer)·scale amplifies the few-ulp f32 error of cd near the edge.
             let conditioning = 2.0 * 4.0 * f32::EPSILON as f64 / (cd - co).abs();
             Some((unspotted * t * t, conditioning))
         });
-        assert!(full > 50 && partial > 50 && dark > 50, "{full} {partial} {dark}");
+        assert!(
+            full > 50 && partial > 50 && dark > 50,
+            "{full} {partial} {dark}"
+        );
         assert!(out.stats.rays.skipped_outside_cone >= dark as u64);
     }
 }
@@ -179,7 +192,9 @@ fn directional_light() {
         let out = render_with(&scene, &camera, backend, &centre_settings(48, 48));
         let cos = -direction.as_dvec3().y;
         let want = RHO.as_dvec3() / PI * irradiance.as_dvec3() * cos;
-        let seen = check(&out, &camera, exact, "directional", TOL, |_| Some((want, 0.0)));
+        let seen = check(&out, &camera, exact, "directional", TOL, |_| {
+            Some((want, 0.0))
+        });
         assert!(seen > 48 * 48 / 3);
     }
 }
@@ -206,7 +221,10 @@ fn inverse_square_law_from_a_millimetre_to_ten_kilometres() {
             assert!(close(centre, want, TOL), "d = {d}: {centre} vs {want}");
             let light_at = DVec3::new(0.0, d as f64, 0.0);
             let seen = check(&out, &camera, exact, "inverse square", TOL, |p| {
-                Some((point_light_radiance(RHO, intensity, light_at, p, exact.normal()), 0.0))
+                Some((
+                    point_light_radiance(RHO, intensity, light_at, p, exact.normal()),
+                    0.0,
+                ))
             });
             assert_eq!(seen, 25, "d = {d}");
         }
@@ -241,7 +259,8 @@ fn range_window() {
             } else {
                 inside += 1;
             }
-            let unwindowed = point_light_radiance(RHO, intensity, position.as_dvec3(), p, exact.normal());
+            let unwindowed =
+                point_light_radiance(RHO, intensity, position.as_dvec3(), p, exact.normal());
             // 1 − (d/r)⁴ loses relative precision as it nears 0 at the range.
             let conditioning = 4.0 * 8.0 * f32::EPSILON as f64 / window.max(1e-30);
             Some((unwindowed * window, conditioning))
@@ -270,7 +289,13 @@ fn single_sided_back_faces_get_no_light() {
             let seen = check(&out, &camera, exact, "back face", TOL, |p| {
                 Some((
                     if double_sided {
-                        point_light_radiance(RHO, intensity, light_below.as_dvec3(), p, -exact.normal())
+                        point_light_radiance(
+                            RHO,
+                            intensity,
+                            light_below.as_dvec3(),
+                            p,
+                            -exact.normal(),
+                        )
                     } else {
                         DVec3::ZERO
                     },
@@ -289,6 +314,8 @@ fn single_sided_back_faces_get_no_light() {
         let scene = scene(vec![mesh], vec![lambert(RHO, true)], vec![light]);
         let camera = look_at(Vec3::new(0.5, -3.0, 1.0), Vec3::ZERO, Vec3::Y, 0.9);
         let out = render_with(&scene, &camera, backend, &centre_settings(40, 40));
-        check(&out, &camera, exact, "no leak", TOL, |_| Some((DVec3::ZERO, 0.0)));
+        check(&out, &camera, exact, "no leak", TOL, |_| {
+            Some((DVec3::ZERO, 0.0))
+        });
     }
 }

@@ -7,7 +7,7 @@
 
 mod render_support;
 
-use glam::{DVec3, EulerRot, Quat, Vec3};
+use glam::{EulerRot, Quat, Vec3};
 use glint::accel::BackendKind;
 use glint::render::{AovSelection, RenderOutput, RenderSettings};
 use glint::scene::{Camera, Light, Mesh, Scene};
@@ -86,7 +86,11 @@ fn plane(frame: &Frame, light: TestLight) -> (Scene, Camera) {
         frame.dir(Vec3::Y),
         0.9,
     );
-    let scene = scene(vec![mesh], vec![lambert(RHO, false)], vec![light.light(frame)]);
+    let scene = scene(
+        vec![mesh],
+        vec![lambert(RHO, false)],
+        vec![light.light(frame)],
+    );
     (scene, camera)
 }
 
@@ -149,9 +153,11 @@ fn assert_lit_correctly(label: &str, frame: &Frame, light: TestLight, backend: B
                     let intensity = (POINT_INTENSITY * frame.scale * frame.scale).as_dvec3();
                     (intensity / (d * d), n.dot(to) / d, d)
                 }
-                TestLight::Directional(dir) => {
-                    (IRRADIANCE.as_dvec3(), -n.dot(dir.as_dvec3().normalize()), f64::INFINITY)
-                }
+                TestLight::Directional(dir) => (
+                    IRRADIANCE.as_dvec3(),
+                    -n.dot(dir.as_dvec3().normalize()),
+                    f64::INFINITY,
+                ),
             };
             // Error in the renderer's cosθ: its position error seen from the light, plus a few
             // ulps of the dot product.
@@ -191,7 +197,10 @@ fn assert_lit_correctly(label: &str, frame: &Frame, light: TestLight, backend: B
         wrong.len(),
         &wrong[..wrong.len().min(3)]
     );
-    assert!(checked + dark > (w * h / 5) as usize, "{label}: only {checked} pixels checked");
+    assert!(
+        checked + dark > (w * h / 5) as usize,
+        "{label}: only {checked} pixels checked"
+    );
 }
 
 #[test]
@@ -325,7 +334,11 @@ fn degenerate_triangles_and_a_zero_area_scene() {
         assert!(all_finite(&out), "{backend}: non-finite output");
         assert!(out.image.pixels.iter().any(|p| p.x > 0.0));
         // Nothing but degenerate triangles: nothing to see.
-        let zero_area = scene(vec![degenerate.clone()], vec![lambert(RHO, true)], vec![light.clone()]);
+        let zero_area = scene(
+            vec![degenerate.clone()],
+            vec![lambert(RHO, true)],
+            vec![light.clone()],
+        );
         let out = render_with(&zero_area, &camera, backend, &settings());
         assert_black_and_finite(&format!("{backend}, zero-area scene"), &out);
         // No geometry at all.
@@ -378,7 +391,12 @@ fn camera_inside_geometry() {
                 vec![lambert(RHO, double_sided)],
                 vec![light_inside, light_outside],
             );
-            let camera = look_at(Vec3::new(0.1, 0.0, 0.3), Vec3::new(1.0, 0.2, -0.5), Vec3::Y, 1.2);
+            let camera = look_at(
+                Vec3::new(0.1, 0.0, 0.3),
+                Vec3::new(1.0, 0.2, -0.5),
+                Vec3::Y,
+                1.2,
+            );
             let out = render_with(&scene, &camera, backend, &settings());
             assert!(all_finite(&out), "{backend}: non-finite output");
             let lit = out.image.pixels.iter().any(|p| *p != Vec3::ZERO);
@@ -386,7 +404,10 @@ fn camera_inside_geometry() {
             // the inside light only (the cube shadows the directional light).
             assert_eq!(lit, double_sided, "{backend}, double-sided {double_sided}");
             let depth = out.aovs.depth.as_ref().unwrap();
-            assert!(depth.pixels.iter().all(|&d| d > 0.0 && d < 4.0), "every ray hits a wall");
+            assert!(
+                depth.pixels.iter().all(|&d| d > 0.0 && d < 4.0),
+                "every ray hits a wall"
+            );
         }
     }
 }

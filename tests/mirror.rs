@@ -20,11 +20,19 @@ const E_WALL: Vec3 = Vec3::new(3.0, 2.0, 1.0);
 const E_FLOOR: Vec3 = Vec3::new(1.0, 1.5, 2.0);
 
 fn floor_quad() -> ExactQuad {
-    ExactQuad::new(Vec3::ZERO, Vec3::new(3.0, 0.0, 0.0), Vec3::new(0.0, 0.0, -3.0))
+    ExactQuad::new(
+        Vec3::ZERO,
+        Vec3::new(3.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, -3.0),
+    )
 }
 
 fn wall_quad() -> ExactQuad {
-    ExactQuad::new(Vec3::new(0.0, 2.0, -3.0), Vec3::new(3.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0))
+    ExactQuad::new(
+        Vec3::new(0.0, 2.0, -3.0),
+        Vec3::new(3.0, 0.0, 0.0),
+        Vec3::new(0.0, 2.0, 0.0),
+    )
 }
 
 fn mesh_of(q: ExactQuad, material: usize) -> glint::scene::Mesh {
@@ -38,7 +46,12 @@ fn room(floor: Material, wall: Material, lights: Vec<Light>) -> (Scene, Camera) 
         vec![floor, wall],
         lights,
     );
-    let camera = look_at(Vec3::new(0.0, 1.5, 4.0), Vec3::new(0.0, 0.6, -3.0), Vec3::Y, 0.9);
+    let camera = look_at(
+        Vec3::new(0.0, 1.5, 4.0),
+        Vec3::new(0.0, 0.6, -3.0),
+        Vec3::Y,
+        0.9,
+    );
     (scene, camera)
 }
 
@@ -114,7 +127,10 @@ fn check(
                 Seen::Floor(None) | Seen::Ambiguous => continue,
             };
             let got = out.image.get(x, y).unwrap();
-            assert!(close(got, want, TOL), "{label}: pixel ({x}, {y}) = {got}, closed form {want}");
+            assert!(
+                close(got, want, TOL),
+                "{label}: pixel ({x}, {y}) = {got}, closed form {want}"
+            );
         }
     }
     (walls, reflections)
@@ -140,7 +156,10 @@ fn mirror_shows_the_lit_plane_times_its_reflectance() {
         let (walls, reflections) = check(&out, &camera, backend.name(), wall_radiance(), |sees| {
             if sees { reflected } else { DVec3::ZERO }
         });
-        assert!(walls > 300 && reflections > 300, "{walls} wall, {reflections} mirror pixels");
+        assert!(
+            walls > 300 && reflections > 300,
+            "{walls} wall, {reflections} mirror pixels"
+        );
     }
 }
 
@@ -148,8 +167,11 @@ fn mirror_shows_the_lit_plane_times_its_reflectance() {
 fn partly_metallic_mirror_adds_its_diffuse_part() {
     let metallic = 0.6;
     for &backend in BackendKind::available() {
-        let (scene, camera) =
-            room(mirror(R_MIRROR, metallic), lambert(RHO_WALL, false), lights());
+        let (scene, camera) = room(
+            mirror(R_MIRROR, metallic),
+            lambert(RHO_WALL, false),
+            lights(),
+        );
         let out = render_with(&scene, &camera, backend, &settings(8));
         let rho = R_MIRROR.as_dvec3();
         let diffuse = rho * (1.0 - metallic as f64) / PI * E_FLOOR.as_dvec3();
@@ -180,12 +202,19 @@ fn max_depth_zero_traces_no_reflection_and_one_traces_one() {
         let mirror_pixels = (0..depth1.image.pixels.len())
             .filter(|&i| {
                 let (x, y) = (i as u32 % 64, i as u32 / 64);
-                floor_quad().hit(&centre_ray(&camera, 64, 48, x, y), 0.0).is_some()
-                    && wall_quad().hit(&centre_ray(&camera, 64, 48, x, y), 0.0).is_none()
+                floor_quad()
+                    .hit(&centre_ray(&camera, 64, 48, x, y), 0.0)
+                    .is_some()
+                    && wall_quad()
+                        .hit(&centre_ray(&camera, 64, 48, x, y), 0.0)
+                        .is_none()
             })
             .count() as u64;
         let traced = depth1.stats.rays.reflection;
-        assert!(traced.abs_diff(mirror_pixels) <= 8, "{traced} vs {mirror_pixels}");
+        assert!(
+            traced.abs_diff(mirror_pixels) <= 8,
+            "{traced} vs {mirror_pixels}"
+        );
     }
 }
 
@@ -234,7 +263,12 @@ fn everything_scene() -> (Scene, Camera) {
     let mut scene = scene;
     let wall = &mut scene.meshes[1];
     wall.texcoords[0] = Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]);
-    wall.colors = Some(vec![Vec4::ONE, Vec4::new(1.0, 0.5, 0.5, 1.0), Vec4::ONE, Vec4::splat(0.5)]);
+    wall.colors = Some(vec![
+        Vec4::ONE,
+        Vec4::new(1.0, 0.5, 0.5, 1.0),
+        Vec4::ONE,
+        Vec4::splat(0.5),
+    ]);
     wall.normals = Some(vec![
         Vec3::new(0.1, 0.0, 1.0).normalize(),
         Vec3::Z,
@@ -293,9 +327,18 @@ fn specialised_kernel_matches_the_general_one() {
             let general = render_with(test_scene, &camera, backend, &settings);
             assert!(!general.stats.kernel.typed_lights && specialised.stats.kernel.typed_lights);
             assert!(specialised.image.pixels.iter().any(|p| *p != Vec3::ZERO));
-            for (i, (s, g)) in specialised.image.pixels.iter().zip(&general.image.pixels).enumerate() {
+            for (i, (s, g)) in specialised
+                .image
+                .pixels
+                .iter()
+                .zip(&general.image.pixels)
+                .enumerate()
+            {
                 // Lights are summed in another order: equal up to rounding.
-                assert!(close(*s, g.as_dvec3(), 1e-5), "{backend}: pixel {i}: {s} vs {g}");
+                assert!(
+                    close(*s, g.as_dvec3(), 1e-5),
+                    "{backend}: pixel {i}: {s} vs {g}"
+                );
             }
             assert_eq!(specialised.stats.rays, general.stats.rays);
         }

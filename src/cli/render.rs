@@ -201,7 +201,10 @@ fn check_options(args: &RenderArgs, output: &Path, format: OutputFormat) -> Resu
         eprintln!("note: --exposure applies to PNG only; the EXR holds linear radiance");
     }
     if !args.exposure.is_finite() {
-        return Err(CliError(format!("--exposure {} is not a number", args.exposure)));
+        return Err(CliError(format!(
+            "--exposure {} is not a number",
+            args.exposure
+        )));
     }
     if args.spp == 0 {
         return Err(CliError("--spp must be at least 1".into()));
@@ -261,9 +264,10 @@ fn add_lights(
 ) -> Result<(), CliError> {
     let mut extra = Vec::new();
     for spec in &args.light {
-        extra.push(scene::light_spec::parse_light(spec).map_err(|e| {
-            CliError(format!("--light '{spec}': {e}"))
-        })?);
+        extra.push(
+            scene::light_spec::parse_light(spec)
+                .map_err(|e| CliError(format!("--light '{spec}': {e}")))?,
+        );
     }
     if let Some(file) = &args.lights_file {
         extra.extend(scene::light_spec::load_lights_file(file).map_err(CliError::from_display)?);
@@ -378,7 +382,10 @@ mod tests {
         });
         assert_eq!(image_size(Some(300), None, &square), (300, 300));
         assert_eq!(image_size(None, Some(200), &square), (200, 200));
-        let ortho = camera(Projection::Orthographic { xmag: 2.0, ymag: 1.0 });
+        let ortho = camera(Projection::Orthographic {
+            xmag: 2.0,
+            ymag: 1.0,
+        });
         assert_eq!(image_size(Some(100), None, &ortho), (100, 50));
         assert_eq!(image_size(Some(7), Some(9), &ortho), (7, 9));
     }

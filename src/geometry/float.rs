@@ -22,7 +22,10 @@ mod tests {
             let eps = 2f64.powi(-24);
             let expected = n as f64 * eps / (1.0 - n as f64 * eps);
             let got = gamma(n) as f64;
-            assert!((got - expected).abs() <= expected * 1e-6, "γ({n}) = {got}, want {expected}");
+            assert!(
+                (got - expected).abs() <= expected * 1e-6,
+                "γ({n}) = {got}, want {expected}"
+            );
         }
         assert!(gamma(7) > 7.0 * MACHINE_EPSILON);
     }

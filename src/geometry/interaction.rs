@@ -112,7 +112,14 @@ mod tests {
     fn back_face_hits_flip_both_normals() {
         let mesh = quad_mesh();
         // (v1 − v0) × (v2 − v0) = Z × X = +Y.
-        let hit = Hit { t: 1.0, geom_id: 0, prim_id: 0, u: 0.25, v: 0.25, ng: Vec3::Y };
+        let hit = Hit {
+            t: 1.0,
+            geom_id: 0,
+            prim_id: 0,
+            u: 0.25,
+            v: 0.25,
+            ng: Vec3::Y,
+        };
         let front = SurfaceInteraction::from_hit(&mesh, &hit, -Vec3::Y).unwrap();
         assert!(front.front_face && front.ng == Vec3::Y);
         let back = SurfaceInteraction::from_hit(&mesh, &hit, Vec3::Y).unwrap();
@@ -124,9 +131,20 @@ mod tests {
     #[test]
     fn degenerate_hits_are_rejected_not_nan() {
         let mesh = quad_mesh();
-        let hit = Hit { t: 1.0, geom_id: 0, prim_id: 0, u: 0.25, v: 0.25, ng: Vec3::ZERO };
+        let hit = Hit {
+            t: 1.0,
+            geom_id: 0,
+            prim_id: 0,
+            u: 0.25,
+            v: 0.25,
+            ng: Vec3::ZERO,
+        };
         assert!(SurfaceInteraction::from_hit(&mesh, &hit, -Vec3::Y).is_none());
-        let bad_prim = Hit { prim_id: 7, ng: Vec3::Y, ..hit };
+        let bad_prim = Hit {
+            prim_id: 7,
+            ng: Vec3::Y,
+            ..hit
+        };
         assert!(SurfaceInteraction::from_hit(&mesh, &bad_prim, -Vec3::Y).is_none());
     }
 }

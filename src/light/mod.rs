@@ -175,11 +175,12 @@ impl LightSet {
                     }
                     let intensity = intensity * scale;
                     match range.map(Bounded::new).transpose().map_err(err)? {
-                        None => set.points.push(PointLight::new(position, intensity, Unbounded)),
-                        Some(window) => {
-                            set.ranged_points
-                                .push(PointLight::new(position, intensity, window))
-                        }
+                        None => set
+                            .points
+                            .push(PointLight::new(position, intensity, Unbounded)),
+                        Some(window) => set
+                            .ranged_points
+                            .push(PointLight::new(position, intensity, window)),
                     }
                     set.general.push(GeneralLight::Point(PointLight::new(
                         position,

@@ -69,7 +69,11 @@ mod tests {
 
     #[test]
     fn inverse_square_law() {
-        let light = PointLight::new(Vec3::new(0.0, 3.0, 4.0), Vec3::new(10.0, 20.0, 30.0), Unbounded);
+        let light = PointLight::new(
+            Vec3::new(0.0, 3.0, 4.0),
+            Vec3::new(10.0, 20.0, 30.0),
+            Unbounded,
+        );
         let inc = light.incident(Vec3::ZERO).unwrap();
         let expected = Vec3::new(10.0, 20.0, 30.0) / 25.0;
         assert!((inc.irradiance - expected).abs().max_element() < 1e-6);

@@ -49,12 +49,10 @@ impl Bounded {
     pub fn from_option(range: Option<f32>) -> Self {
         // Only ranges that passed `new` reach here; an invalid one becomes infinite rather
         // than panicking.
-        range
-            .and_then(|r| Self::new(r).ok())
-            .unwrap_or(Self {
-                range: f32::INFINITY,
-                inv_range_squared: 0.0,
-            })
+        range.and_then(|r| Self::new(r).ok()).unwrap_or(Self {
+            range: f32::INFINITY,
+            inv_range_squared: 0.0,
+        })
     }
 }
 

@@ -100,14 +100,25 @@ mod tests {
     #[test]
     fn falloff_is_the_khr_reference_curve() {
         let (inner, outer) = (0.2f32, 0.6f32);
-        let light = SpotLight::new(Vec3::ZERO, -Vec3::Y, Vec3::ONE, inner.cos(), outer.cos(), Unbounded);
+        let light = SpotLight::new(
+            Vec3::ZERO,
+            -Vec3::Y,
+            Vec3::ONE,
+            inner.cos(),
+            outer.cos(),
+            Unbounded,
+        );
         for angle in [0.0f32, 0.1, 0.2, 0.3, 0.45, 0.59, 0.6, 0.7, 3.0] {
             let w = Vec3::new(angle.sin(), -angle.cos(), 0.0);
             let cd = angle.cos() as f64;
             let (ci, co) = (inner.cos() as f64, outer.cos() as f64);
             let t = ((cd - co) / (ci - co).max(0.001)).clamp(0.0, 1.0);
             let got = light.falloff(w) as f64;
-            assert!((got - t * t).abs() < 1e-5, "angle {angle}: {got} vs {}", t * t);
+            assert!(
+                (got - t * t).abs() < 1e-5,
+                "angle {angle}: {got} vs {}",
+                t * t
+            );
         }
         let outside = Vec3::new(0.7f32.sin(), -0.7f32.cos(), 0.0);
         assert_eq!(light.incident(outside), Err(Unlit::OutsideCone));

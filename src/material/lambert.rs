@@ -26,7 +26,9 @@ mod tests {
     /// ∫ f cosθ dω over the hemisphere equals ρ (midpoint rule in θ; φ is trivial).
     #[test]
     fn reflectance_integrates_to_albedo() {
-        let brdf = Lambert { albedo: Vec3::new(0.2, 0.5, 1.0) };
+        let brdf = Lambert {
+            albedo: Vec3::new(0.2, 0.5, 1.0),
+        };
         let steps = 20_000;
         let dtheta = std::f64::consts::FRAC_PI_2 / steps as f64;
         let integral: f64 = (0..steps)

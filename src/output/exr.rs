@@ -12,7 +12,11 @@ use exr::prelude::{
 use glam::Vec3;
 
 /// Writes `image` and the AOVs present in `aovs` to `path`, atomically.
-pub fn write_exr(path: &std::path::Path, image: &Image<Vec3>, aovs: &Aovs) -> Result<(), OutputError> {
+pub fn write_exr(
+    path: &std::path::Path,
+    image: &Image<Vec3>,
+    aovs: &Aovs,
+) -> Result<(), OutputError> {
     let encode_error = |message: String| OutputError::Encode {
         path: path.to_path_buf(),
         format: "EXR",

@@ -37,8 +37,12 @@ pub const SRGB_LINEAR_THRESHOLD: f32 = 0.003_130_8;
 /// The sRGB encoding of a linear value, clipped to [0, 1] first (NaN → 0).
 #[inline]
 pub fn srgb_encode(linear: f32) -> f32 {
-    // `max` first so that NaN becomes 0.
-    let v = linear.max(0.0).min(1.0);
+    // NaN (a bug upstream, never a colour) encodes as 0 rather than propagating.
+    let v = if linear.is_nan() {
+        0.0
+    } else {
+        linear.clamp(0.0, 1.0)
+    };
     if v <= SRGB_LINEAR_THRESHOLD {
         12.92 * v
     } else {
@@ -60,10 +64,26 @@ pub fn srgb16(linear: f32) -> u16 {
 
 /// Writes `image` (linear radiance) as an sRGB PNG, atomically.
 pub fn write_png(path: &Path, image: &Image<Vec3>, options: PngOptions) -> Result<(), OutputError> {
+    let expected = image.width as usize * image.height as usize;
+    if image.pixels.len() != expected || expected == 0 {
+        return Err(OutputError::Encode {
+            path: path.to_path_buf(),
+            format: "PNG",
+            message: format!(
+                "the image has {} pixels for {}×{}",
+                image.pixels.len(),
+                image.width,
+                image.height
+            ),
+        });
+    }
     let scale = options.exposure_ev.exp2();
     let values = image.pixels.iter().flat_map(|p| (*p * scale).to_array());
     let (bytes, color) = match options.depth {
-        PngDepth::Eight => (values.map(srgb8).collect::<Vec<u8>>(), ExtendedColorType::Rgb8),
+        PngDepth::Eight => (
+            values.map(srgb8).collect::<Vec<u8>>(),
+            ExtendedColorType::Rgb8,
+        ),
         // The encoder takes 16-bit samples in native byte order and swaps them itself.
         PngDepth::Sixteen => (
             values.flat_map(|v| srgb16(v).to_ne_bytes()).collect(),

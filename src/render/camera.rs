@@ -70,7 +70,9 @@ impl CameraRays {
             }
             Projection::Orthographic { xmag, ymag } => {
                 if !(xmag != 0.0 && ymag != 0.0 && xmag.is_finite() && ymag.is_finite()) {
-                    return Err(format!("xmag {xmag} and ymag {ymag} must be finite and non-zero"));
+                    return Err(format!(
+                        "xmag {xmag} and ymag {ymag} must be finite and non-zero"
+                    ));
                 }
                 (
                     Kind::Orthographic,
@@ -150,7 +152,10 @@ mod tests {
         let camera = Camera {
             name: "ortho".into(),
             world_from_camera: Mat4::IDENTITY,
-            projection: Projection::Orthographic { xmag: 2.0, ymag: 1.0 },
+            projection: Projection::Orthographic {
+                xmag: 2.0,
+                ymag: 1.0,
+            },
         };
         let rays = CameraRays::new(&camera, 4, 2).unwrap();
         let corner = rays.ray(0.0, 0.0);

@@ -109,8 +109,12 @@ impl Film {
         Self {
             samples_per_pixel: samples_per_pixel.max(1),
             radiance: Image::filled(width, height, Vec3::ZERO),
-            albedo: aovs.albedo.then(|| Image::filled(width, height, Vec3::ZERO)),
-            normal: aovs.normal.then(|| Image::filled(width, height, Vec3::ZERO)),
+            albedo: aovs
+                .albedo
+                .then(|| Image::filled(width, height, Vec3::ZERO)),
+            normal: aovs
+                .normal
+                .then(|| Image::filled(width, height, Vec3::ZERO)),
             depth: aovs.depth.then(|| Image::filled(width, height, 0.0)),
         }
     }

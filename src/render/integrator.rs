@@ -327,7 +327,8 @@ fn add_shadow_rays<L: PunctualLight>(lights: &[L], points: &[ShadingPoint], b: &
                 ShadowTarget::Infinity => spawn_ray(sp.p, sp.p_error, sp.ng, wi),
             };
             b.rays.push(ray);
-            b.values.push((sp.pixel, sp.weight * irradiance * cos_shading));
+            b.values
+                .push((sp.pixel, sp.weight * irradiance * cos_shading));
         }
     }
 }

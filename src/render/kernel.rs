@@ -12,8 +12,8 @@
 //! [`GeneralLight`](crate::light::GeneralLight). It gives the same image and exists to measure
 //! what the specialisation buys (`cli::bench_render::kernel_bench`).
 
-use super::integrator::{Scratch, TileContext, render_tile};
 use super::film::TileSums;
+use super::integrator::{Scratch, TileContext, render_tile};
 use super::stats::RayCounts;
 use super::tiles::Tile;
 use crate::scene::SceneFeatures;

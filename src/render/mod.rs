@@ -98,7 +98,9 @@ pub enum RenderError {
     #[error("invalid render settings: {0}")]
     Settings(String),
     /// The camera is unusable.
-    #[error("camera \"{name}\": {reason}; fix the camera in the scene or pick another with --camera")]
+    #[error(
+        "camera \"{name}\": {reason}; fix the camera in the scene or pick another with --camera"
+    )]
     Camera {
         /// The camera's name.
         name: String,

@@ -36,7 +36,7 @@ impl PixelSampler {
         let spp = spp.max(1);
         // The largest divisor of spp not above √spp gives the squarest grid.
         let mut rows = (spp as f64).sqrt() as u32;
-        while rows > 1 && spp % rows != 0 {
+        while rows > 1 && !spp.is_multiple_of(rows) {
             rows -= 1;
         }
         let rows = rows.max(1);
@@ -79,9 +79,8 @@ impl PixelSampler {
 #[inline]
 fn sample_key(seed: u64, x: u32, y: u32, sample: u32) -> u64 {
     const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
-    let pixel_sample = ((x as u64 & 0xF_FFFF) << 44)
-        | ((y as u64 & 0xF_FFFF) << 24)
-        | (sample as u64 & 0xFF_FFFF);
+    let pixel_sample =
+        ((x as u64 & 0xF_FFFF) << 44) | ((y as u64 & 0xF_FFFF) << 24) | (sample as u64 & 0xFF_FFFF);
     pixel_sample ^ seed.wrapping_mul(GOLDEN).rotate_left(17)
 }
 
@@ -113,8 +112,17 @@ mod tests {
 
     #[test]
     fn prime_counts_fall_back_to_strips() {
-        assert_eq!(PixelSampler::new(PixelSampling::Stratified, 7, 0).strata(), (7, 1));
-        assert_eq!(PixelSampler::new(PixelSampling::Stratified, 16, 0).strata(), (4, 4));
-        assert_eq!(PixelSampler::new(PixelSampling::Stratified, 0, 0).strata(), (1, 1));
+        assert_eq!(
+            PixelSampler::new(PixelSampling::Stratified, 7, 0).strata(),
+            (7, 1)
+        );
+        assert_eq!(
+            PixelSampler::new(PixelSampling::Stratified, 16, 0).strata(),
+            (4, 4)
+        );
+        assert_eq!(
+            PixelSampler::new(PixelSampling::Stratified, 0, 0).strata(),
+            (1, 1)
+        );
     }
 }

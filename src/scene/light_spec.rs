@@ -15,5 +15,8 @@ pub fn parse_light(spec: &str) -> Result<Light, LightSpecError> {
 
 /// Reads a lights file (format in the README).
 pub fn load_lights_file(path: &Path) -> Result<Vec<Light>, LightSpecError> {
-    Err(LightSpecError(format!("{}: lights files are not supported yet", path.display())))
+    Err(LightSpecError(format!(
+        "{}: lights files are not supported yet",
+        path.display()
+    )))
 }

@@ -46,7 +46,12 @@ pub fn emitter(le: Vec3) -> Material {
 pub fn quad(center: Vec3, u: Vec3, v: Vec3, material: usize) -> Mesh {
     Mesh {
         name: "quad".into(),
-        positions: vec![center - u - v, center + u - v, center + u + v, center - u + v],
+        positions: vec![
+            center - u - v,
+            center + u - v,
+            center + u + v,
+            center - u + v,
+        ],
         indices: vec![[0, 1, 2], [0, 2, 3]],
         material,
         ..Mesh::default()
@@ -237,7 +242,9 @@ impl ExactTriangle {
 
     /// Unit normal in glTF winding.
     pub fn normal(&self) -> DVec3 {
-        (self.p[1] - self.p[0]).cross(self.p[2] - self.p[0]).normalize()
+        (self.p[1] - self.p[0])
+            .cross(self.p[2] - self.p[0])
+            .normalize()
     }
 
     /// The exact hit `(t, point, smallest barycentric)` of `ray` (its f32 values taken exactly).
