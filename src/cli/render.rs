@@ -107,6 +107,10 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     .map_err(CliError::from_display)?;
 
+    let label = match &args.scene {
+        Some(path) => path.display().to_string(),
+        None => "demo scene".to_string(),
+    };
     let camera = choose_camera(&scene, args.camera, &say)?;
     add_lights(&mut scene, &args, &camera, &say)?;
     let (width, height) = image_size(args.width, args.height, &camera);
@@ -121,7 +125,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
 
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())
-        .map_err(CliError::from_display)?;
+        .map_err(|e| CliError(format!("{label}: {e}")))?;
     let settings = RenderSettings {
         width,
         height,
@@ -130,11 +134,9 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         max_depth: args.max_depth,
         threads: args.threads,
         aovs: aov_selection(&args.aov),
-        light_units: if args.photometric {
-            LightUnits::Photometric
-        } else {
-            LightUnits::Radiometric
-        },
+        // add_lights already converted photometric lights (and only those: glint's default
+        // lights are radiometric).
+        light_units: LightUnits::Radiometric,
         ..RenderSettings::default()
     };
 
@@ -142,7 +144,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let report = |done: usize, total: usize| bar.update(done, total);
     let result = render::render(&scene, accel.as_ref(), &camera, &settings, Some(&report));
     bar.finish();
-    let out = result.map_err(CliError::from_display)?;
+    let out = result.map_err(|e| CliError(format!("{label}: {e}")))?;
 
     match format {
         OutputFormat::Png => write_png(
@@ -255,7 +257,9 @@ fn choose_camera(
     }
 }
 
-/// Adds `--light` and `--lights` lights; a scene left without any gets the default lights.
+/// Adds `--light` and `--lights` lights and, with `--photometric`, converts the scene's and
+/// these lights to radiometric units; a scene left without any light gets the default lights
+/// (radiometric already).
 fn add_lights(
     scene: &mut Scene,
     args: &RenderArgs,
@@ -271,6 +275,12 @@ fn add_lights(
     }
     if let Some(file) = &args.lights_file {
         extra.extend(scene::light_spec::load_lights_file(file).map_err(CliError::from_display)?);
+    }
+    if args.photometric {
+        let factor = LightUnits::Photometric.to_radiometric();
+        for light in scene.lights.iter_mut().chain(extra.iter_mut()) {
+            *light = crate::light::scaled(light, factor);
+        }
     }
     if scene.lights.is_empty() && extra.is_empty() {
         let defaults = scene::defaults::default_lights(scene, camera);

@@ -53,6 +53,17 @@ impl LightUnits {
     }
 }
 
+/// `light` with its intensity (or irradiance) multiplied by `factor`, e.g.
+/// `LightUnits::Photometric.to_radiometric()` to convert a photometric light.
+pub fn scaled(light: &Light, factor: f32) -> Light {
+    let mut light = light.clone();
+    match &mut light {
+        Light::Point { intensity, .. } | Light::Spot { intensity, .. } => *intensity *= factor,
+        Light::Directional { irradiance, .. } => *irradiance *= factor,
+    }
+    light
+}
+
 /// Where the shadow ray of a light sample goes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ShadowTarget {

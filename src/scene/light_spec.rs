@@ -15,8 +15,5 @@ pub fn parse_light(spec: &str) -> Result<Light, LightSpecError> {
 
 /// Reads a lights file (format in the README).
 pub fn load_lights_file(path: &Path) -> Result<Vec<Light>, LightSpecError> {
-    Err(LightSpecError(format!(
-        "{}: lights files are not supported yet",
-        path.display()
-    )))
+    Err(LightSpecError(format!("{}: lights files are not supported yet", path.display())))
 }
