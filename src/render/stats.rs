@@ -122,3 +122,44 @@ impl RenderStats {
         line
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn summary_names_rays_skips_and_what_was_left_out() {
+        let features = SceneFeatures {
+            point_lights: true,
+            mirrors: true,
+            ..SceneFeatures::default()
+        };
+        let stats = RenderStats {
+            elapsed: Duration::from_millis(500),
+            rays: RayCounts {
+                camera: 1_000_000,
+                shadow: 400_000,
+                reflection: 100_000,
+                skipped_facing_away: 7,
+                skipped_outside_cone: 0,
+                skipped_beyond_range: 0,
+            },
+            features,
+            kernel: KernelFlags::for_scene(&features, super::super::KernelChoice::Specialised),
+        };
+        assert!((stats.mrays_per_second() - 3.0).abs() < 1e-9);
+        let line = stats.summary();
+        for part in [
+            "1000000 camera",
+            "400000 shadow",
+            "100000 reflection",
+            "3.0 Mrays/s",
+            "7 facing away",
+            "no textures: no texcoord interpolation",
+            "no spot lights: no cone tests",
+        ] {
+            assert!(line.contains(part), "missing '{part}' in: {line}");
+        }
+        assert!(!line.contains("no mirrors"), "{line}");
+    }
+}
