@@ -1,7 +1,7 @@
 //! Shading kernels specialised for what a scene uses.
 //!
 //! The tile integrator is generic over four compile-time switches: texture lookups, mirror
-//! reflections, vertex colours and interpolated shading normals. [`select`] picks the
+//! reflections, vertex colours and interpolated shading normals. `select` picks the
 //! instance whose switches match the scene's [`SceneFeatures`], so per-hit work the scene
 //! cannot need is not compiled into the loop that runs. Lights are specialised separately:
 //! [`LightSet`](crate::light::LightSet) keeps one list per light type and range kind, each
