@@ -8,5 +8,10 @@
 #[allow(unsafe_code)]
 pub mod accel;
 pub mod cli;
+pub mod geometry;
+pub mod light;
+pub mod material;
+pub mod output;
 pub mod procedural;
+pub mod render;
 pub mod scene;

@@ -2,6 +2,7 @@
 //! They live in the library so that tests can drive them without spawning processes.
 
 pub mod bench;
+pub mod bench_render;
 pub mod render;
 
 /// An error a subcommand reports to the user: one line, already carrying its context.
