@@ -250,7 +250,7 @@ fn choose_camera(
             Some(camera) => Ok(camera.clone()),
             None => {
                 let camera = scene::defaults::default_camera(scene);
-                say("scene has no camera: using a default camera framing the scene".into());
+                say(scene::defaults::describe_camera(&camera));
                 Ok(camera)
             }
         },
@@ -284,10 +284,7 @@ fn add_lights(
     }
     if scene.lights.is_empty() && extra.is_empty() {
         let defaults = scene::defaults::default_lights(scene, camera);
-        say(format!(
-            "scene has no lights: adding {} default light(s) placed relative to the camera",
-            defaults.len()
-        ));
+        say(scene::defaults::describe_lights(&defaults));
         extra = defaults;
     }
     scene.lights.extend(extra);
