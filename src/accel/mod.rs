@@ -279,8 +279,10 @@ pub fn build(
 }
 
 /// Rejects input that would make either backend misbehave: out-of-range indices, non-finite
-/// positions. Catching it here keeps both backends' behaviour identical and defined.
-fn validate(meshes: &[TriangleMesh<'_>]) -> Result<(), AccelError> {
+/// positions. Catching it here keeps both backends' behaviour identical and defined. [`build`]
+/// calls it; callers that build a backend directly (`EmbreeAccel::build`, `BvhAccel::build`)
+/// must call it first.
+pub fn validate(meshes: &[TriangleMesh<'_>]) -> Result<(), AccelError> {
     for (mesh_index, mesh) in meshes.iter().enumerate() {
         let n = mesh.positions.len();
         if let Some(bad) = mesh.positions.iter().position(|p| !p.is_finite()) {

@@ -1,0 +1,20 @@
+//! Benchmarks: how fast each ray backend builds and traces.
+//!
+//! - [`rays`]: deterministic ray generators (coherent camera rays in tiles, incoherent random
+//!   rays and segments), reusable by any benchmark that must trace the same rays twice.
+//! - [`timing`]: medians and spreads of repeated runs after a discarded warm-up.
+//! - [`scene`]: the scenes benchmarked (built-in procedural scenes or glTF files).
+//! - [`structure`]: a built backend with its single-ray and packet entry points.
+//! - [`run`]: `bench rays` itself, measuring every build setting and query.
+//! - [`report`]: the figures as data, the ratios derived within one run, and the tables.
+
+pub mod rays;
+pub mod report;
+pub mod run;
+pub mod scene;
+pub mod structure;
+pub mod timing;
+
+pub use report::RaysReport;
+pub use run::{BenchError, RaysConfig, run_rays};
+pub use scene::{BenchScene, SceneSize};
