@@ -15,3 +15,4 @@ pub mod output;
 pub mod procedural;
 pub mod render;
 pub mod scene;
+pub mod texture;
