@@ -79,31 +79,45 @@ fn scene() -> Result<serde_json::Value, Box<dyn std::error::Error>> {
         while bin.len() % 4 != 0 {
             bin.push(0);
         }
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target}));
+        views.push(
+            json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target}),
+        );
         views.len() - 1
     };
     let f32s = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
     let idx_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
     let mut accessors = Vec::new();
     let mut meshes = Vec::new();
-    for (material, (p, uv)) in [(left_p, left_uv), (right_p, right_uv)].into_iter().enumerate() {
+    for (material, (p, uv)) in [(left_p, left_uv), (right_p, right_uv)]
+        .into_iter()
+        .enumerate()
+    {
         let flat: Vec<f32> = p.iter().flatten().copied().collect();
-        let (lo, hi) = flat.chunks(3).fold(([f32::MAX; 3], [f32::MIN; 3]), |(lo, hi), c| {
-            (
-                [lo[0].min(c[0]), lo[1].min(c[1]), lo[2].min(c[2])],
-                [hi[0].max(c[0]), hi[1].max(c[1]), hi[2].max(c[2])],
-            )
-        });
+        let (lo, hi) = flat
+            .chunks(3)
+            .fold(([f32::MAX; 3], [f32::MIN; 3]), |(lo, hi), c| {
+                (
+                    [lo[0].min(c[0]), lo[1].min(c[1]), lo[2].min(c[2])],
+                    [hi[0].max(c[0]), hi[1].max(c[1]), hi[2].max(c[2])],
+                )
+            });
         let pv = push(&f32s(&flat), 34962);
-        let uvv = push(&f32s(&uv.iter().flatten().copied().collect::<Vec<_>>()), 34962);
+        let uvv = push(
+            &f32s(&uv.iter().flatten().copied().collect::<Vec<_>>()),
+            34962,
+        );
         let iv = push(&idx_bytes, 34963);
         let base = accessors.len();
         accessors.push(json!({"bufferView": pv, "componentType": 5126, "count": 4, "type": "VEC3", "min": lo, "max": hi}));
-        accessors.push(json!({"bufferView": uvv, "componentType": 5126, "count": 4, "type": "VEC2"}));
-        accessors.push(json!({"bufferView": iv, "componentType": 5123, "count": 6, "type": "SCALAR"}));
-        meshes.push(json!({"name": if material == 0 { "image half" } else { "procedural half" },
+        accessors
+            .push(json!({"bufferView": uvv, "componentType": 5126, "count": 4, "type": "VEC2"}));
+        accessors
+            .push(json!({"bufferView": iv, "componentType": 5123, "count": 6, "type": "SCALAR"}));
+        meshes.push(
+            json!({"name": if material == 0 { "image half" } else { "procedural half" },
             "primitives": [{"attributes": {"POSITION": base, "TEXCOORD_0": base + 1},
-                            "indices": base + 2, "material": material}]}));
+                            "indices": base + 2, "material": material}]}),
+        );
     }
     let b64 = base64::engine::general_purpose::STANDARD;
     let png = checker_png()?;

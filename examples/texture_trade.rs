@@ -10,10 +10,10 @@
 //! Every 1-spp render's relative RMSE is `sqrt(Σ|x − r|² / Σ|r|²)` over all pixels and
 //! channels; times are medians of RUNS renders. Prints a Markdown table.
 
+use glam::Vec3;
 use glint::accel::{BackendKind, BuildOptions};
 use glint::render::{self, Image, RenderSettings};
 use glint::texture::TextureFilter;
-use glam::Vec3;
 use std::path::Path;
 use std::time::Duration;
 
@@ -26,7 +26,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let reference_spp: u32 = args.get(2).map_or(Ok(1024), |s| s.parse())?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scene = glint::scene::gltf::load(&root.join("scenes/checker-plane.gltf"))?;
-    let camera = scene.cameras.first().ok_or("the scene has no camera")?.clone();
+    let camera = scene
+        .cameras
+        .first()
+        .ok_or("the scene has no camera")?
+        .clone();
     let accel = render::prepare(&scene, BackendKind::default(), BuildOptions::default())?;
     let settings = |filter: TextureFilter, spp: u32| RenderSettings {
         width: WIDTH,
@@ -41,12 +45,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut times = Vec::new();
         let mut image = None;
         for _ in 0..runs {
-            let out = render::render(&scene, accel.as_ref(), &camera, &settings(filter, spp), None)?;
+            let out = render::render(
+                &scene,
+                accel.as_ref(),
+                &camera,
+                &settings(filter, spp),
+                None,
+            )?;
             times.push(out.stats.elapsed);
             image = Some(out.image);
         }
         times.sort();
-        Ok((image.unwrap_or_else(|| Image::filled(WIDTH, HEIGHT, Vec3::ZERO)), times[times.len() / 2]))
+        Ok((
+            image.unwrap_or_else(|| Image::filled(WIDTH, HEIGHT, Vec3::ZERO)),
+            times[times.len() / 2],
+        ))
     };
     let reference = render::render(
         &scene,
@@ -56,7 +69,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None,
     )?
     .image;
-    println!("reference: bilinear, {reference_spp} spp, {WIDTH}×{HEIGHT}; medians of {runs} runs\n");
+    println!(
+        "reference: bilinear, {reference_spp} spp, {WIDTH}×{HEIGHT}; medians of {runs} runs\n"
+    );
     println!("| filter (1 spp) | relative RMSE | render time (ms) | time vs nearest |");
     println!("|---|---|---|---|");
     let mut strip = vec![reference.clone()];
@@ -124,7 +139,8 @@ fn write_strip(path: &Path, images: &[Image<Vec3>]) -> Result<(), Box<dyn std::e
         let x0 = k as u32 * (WIDTH + gap);
         for y in 0..HEIGHT {
             for x in 0..WIDTH {
-                strip.pixels[(y * width + x0 + x) as usize] = image.pixels[(y * WIDTH + x) as usize];
+                strip.pixels[(y * width + x0 + x) as usize] =
+                    image.pixels[(y * WIDTH + x) as usize];
             }
         }
     }

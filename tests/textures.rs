@@ -3,7 +3,6 @@
 //! decoding, procedural textures from `extras`, and the aliasing order of the filters on the
 //! checker-plane scene (both backends).
 
-#[allow(dead_code)]
 mod render_support;
 
 use glam::{Vec2, Vec3, Vec4};
@@ -40,7 +39,10 @@ fn mip_level_matches_the_analytic_footprint() {
         Vec3::new(1000.0, 0.0, 1000.0),
         Vec3::new(0.0, 0.0, -1000.0),
     ];
-    let uvs: Vec<Vec2> = tri.iter().map(|p| Vec2::new(p.x, p.z) / metres_per_uv).collect();
+    let uvs: Vec<Vec2> = tri
+        .iter()
+        .map(|p| Vec2::new(p.x, p.z) / metres_per_uv)
+        .collect();
     for &(h, alpha_deg) in &[(2.0f32, 60.0f32), (1.5, 20.0), (10.0, 5.0), (0.5, 85.0)] {
         let alpha = alpha_deg.to_radians();
         let d = h / alpha.sin();
@@ -52,7 +54,10 @@ fn mip_level_matches_the_analytic_footprint() {
         let ray = rays.ray(x, y);
         let t = -ray.origin.y / ray.dir.y;
         let p = ray.origin + ray.dir * t;
-        assert!((t - d).abs() / d < 1e-4, "the centre ray hits at the distance d");
+        assert!(
+            (t - d).abs() / d < 1e-4,
+            "the centre ray hits at the distance d"
+        );
         let sd = at_surface(&rays.ray_differential(x, y, 1.0), p, Vec3::Y);
         let db_dx = barycentric_derivatives(tri, sd.dp_dx);
         let db_dy = barycentric_derivatives(tri, sd.dp_dy);
@@ -68,7 +73,10 @@ fn mip_level_matches_the_analytic_footprint() {
         // first order; along it the footprint grows over the pixel by about δ / tan α
         // relative (the second-order term), which matters at grazing angles.
         let second_order = 2.0 * delta / alpha.tan();
-        assert!(rel(footprint.duv_dx.length(), across_uv) < 0.01, "h {h} α {alpha_deg}");
+        assert!(
+            rel(footprint.duv_dx.length(), across_uv) < 0.01,
+            "h {h} α {alpha_deg}"
+        );
         assert!(
             rel(footprint.duv_dy.length(), along_uv) < 0.01 + second_order,
             "h {h} α {alpha_deg}: {} vs {along_uv}",
@@ -76,7 +84,10 @@ fn mip_level_matches_the_analytic_footprint() {
         );
         let lod = isotropic_lod(&mip, &footprint);
         let want = (along_uv.max(across_uv) * texels as f32).log2();
-        assert!((lod - want).abs() < 0.05, "h {h} α {alpha_deg}: λ {lod} vs {want}");
+        assert!(
+            (lod - want).abs() < 0.05,
+            "h {h} α {alpha_deg}: λ {lod} vs {want}"
+        );
     }
 }
 
@@ -163,7 +174,10 @@ fn one_by_one_textures_read_their_texel_under_every_filter() {
         for f in &footprints {
             for uv in [Vec2::ZERO, Vec2::new(-7.3, 1e6), Vec2::NAN] {
                 let got = lookup(&mip, uv, f, filter);
-                assert!((got - value).abs().max_element() < 1e-6, "{filter:?} {uv} {f:?}");
+                assert!(
+                    (got - value).abs().max_element() < 1e-6,
+                    "{filter:?} {uv} {f:?}"
+                );
             }
         }
     }
@@ -175,10 +189,19 @@ fn one_by_one_textures_read_their_texel_under_every_filter() {
 /// one side only.
 #[test]
 fn non_power_of_two_chains_keep_the_mean_within_four_thirds() {
-    for &(w, h) in &[(5u32, 3u32), (7, 1), (1, 9), (33, 17), (100, 75), (255, 256)] {
+    for &(w, h) in &[
+        (5u32, 3u32),
+        (7, 1),
+        (1, 9),
+        (33, 17),
+        (100, 75),
+        (255, 256),
+    ] {
         let mip = MipMap::from_grid(ramp(w, h), Wrap::default(), MagFilter::Linear);
         let levels = mip.levels();
-        let mean = |g: &TexelGrid| g.texels.iter().map(|t| f64::from(t.x)).sum::<f64>() / g.texels.len() as f64;
+        let mean = |g: &TexelGrid| {
+            g.texels.iter().map(|t| f64::from(t.x)).sum::<f64>() / g.texels.len() as f64
+        };
         let base_mean = mean(&levels[0]);
         for pair in levels.windows(2) {
             assert_eq!(pair[1].width, (pair[0].width / 2).max(1));
@@ -187,11 +210,17 @@ fn non_power_of_two_chains_keep_the_mean_within_four_thirds() {
         let top = levels.last().unwrap();
         assert_eq!((top.width, top.height), (1, 1));
         for level in levels {
-            assert!((mean(level) - base_mean).abs() <= 1e-4 * base_mean.max(1.0), "{w}×{h}");
+            assert!(
+                (mean(level) - base_mean).abs() <= 1e-4 * base_mean.max(1.0),
+                "{w}×{h}"
+            );
         }
         let (base, all) = (levels[0].bytes(), mip.bytes());
         if w.max(h) <= 2 * w.min(h) {
-            assert!(all * 3 <= base * 4, "{w}×{h}: {all} bytes for a base of {base}");
+            assert!(
+                all * 3 <= base * 4,
+                "{w}×{h}: {all} bytes for a base of {base}"
+            );
         }
         assert!(all <= 2 * base, "{w}×{h}: {all} bytes for a base of {base}");
     }
@@ -210,8 +239,14 @@ fn srgb_base_colour_versus_linear_data() {
     let srgb = decode_image(&png, ColorSpace::Srgb).unwrap().texels[0];
     let linear = decode_image(&png, ColorSpace::Linear).unwrap().texels[0];
     assert!((srgb.x - srgb_to_linear(128.0 / 255.0)).abs() < 1e-6);
-    assert!((srgb.x - 0.2158605).abs() < 1e-5, "sRGB 128 is about 0.216 linear");
-    assert!((srgb.y - 10.0 / 255.0 / 12.92).abs() < 1e-6, "the linear segment");
+    assert!(
+        (srgb.x - 0.2158605).abs() < 1e-5,
+        "sRGB 128 is about 0.216 linear"
+    );
+    assert!(
+        (srgb.y - 10.0 / 255.0 / 12.92).abs() < 1e-6,
+        "the linear segment"
+    );
     assert!((linear.x - 128.0 / 255.0).abs() < 1e-6);
     assert_eq!(srgb.w, linear.w, "alpha is linear in both");
 
@@ -220,9 +255,14 @@ fn srgb_base_colour_versus_linear_data() {
     let (lo, hi) = texture
         .texels
         .iter()
-        .fold((f32::MAX, f32::MIN), |(lo, hi), t| (lo.min(t.x), hi.max(t.x)));
+        .fold((f32::MAX, f32::MIN), |(lo, hi), t| {
+            (lo.min(t.x), hi.max(t.x))
+        });
     // 8-bit sRGB quantisation: within half a code's slope of 0.05 and 0.8.
-    assert!((lo - 0.05).abs() < 0.002 && (hi - 0.8).abs() < 0.004, "{lo} {hi}");
+    assert!(
+        (lo - 0.05).abs() < 0.002 && (hi - 0.8).abs() < 0.004,
+        "{lo} {hi}"
+    );
 }
 
 fn scene_path() -> std::path::PathBuf {
@@ -232,7 +272,10 @@ fn scene_path() -> std::path::PathBuf {
 #[test]
 fn procedural_textures_load_from_extras_and_bad_ones_name_the_material() {
     let scene = glint::scene::gltf::load(&scene_path()).unwrap();
-    let procedural = scene.materials[1].procedural.as_ref().expect("material 1 is procedural");
+    let procedural = scene.materials[1]
+        .procedural
+        .as_ref()
+        .expect("material 1 is procedural");
     assert_eq!(procedural.frequency, 32.0);
     assert!(scene.materials[0].procedural.is_none());
 
@@ -253,7 +296,9 @@ fn procedural_textures_load_from_extras_and_bad_ones_name_the_material() {
             .expect_err("bad extras must fail")
             .to_string();
         assert!(
-            err.contains("procedural checker") && err.contains("glint_procedural") && err.contains(expect),
+            err.contains("procedural checker")
+                && err.contains("glint_procedural")
+                && err.contains(expect),
             "{err}"
         );
     }
@@ -287,8 +332,14 @@ fn filtering_reduces_aliasing_on_the_checker_plane() {
             ..RenderSettings::default()
         };
         let run = |filter, spp| {
-            let out = render::render(&scene, accel.as_ref(), &camera, &settings(filter, spp), None)
-                .unwrap();
+            let out = render::render(
+                &scene,
+                accel.as_ref(),
+                &camera,
+                &settings(filter, spp),
+                None,
+            )
+            .unwrap();
             assert!(out.image.pixels.iter().all(|p| p.is_finite()));
             out.image
         };

@@ -115,8 +115,10 @@ pub(crate) fn render_tile<
             let (fx, fy) = (x as f32 + offset.x, y as f32 + offset.y);
             s.rays.push(ctx.camera.ray(fx, fy));
             if carry {
-                s.diffs
-                    .push(ctx.camera.ray_differential(fx, fy, ctx.differential_spacing));
+                s.diffs.push(
+                    ctx.camera
+                        .ray_differential(fx, fy, ctx.differential_spacing),
+                );
             }
             s.paths.push(PathVertex {
                 pixel: local as u32,
@@ -447,7 +449,11 @@ fn procedural_value(
     let (p, dx, dy) = match procedural.domain {
         Domain::Uv(set) => {
             let (uv, duv) = texcoords(mesh, si, footprint, set);
-            (uv.extend(0.0), duv.duv_dx.extend(0.0), duv.duv_dy.extend(0.0))
+            (
+                uv.extend(0.0),
+                duv.duv_dx.extend(0.0),
+                duv.duv_dy.extend(0.0),
+            )
         }
         Domain::World => match footprint {
             Some(f) => (si.p, f.surface.dp_dx, f.surface.dp_dy),

@@ -103,7 +103,10 @@ pub fn barycentric_derivatives(positions: [Vec3; 3], dp: Vec3) -> Vec2 {
 #[inline]
 pub fn attribute_derivative<T>(values: &[T], vertices: [u32; 3], db: Vec2) -> Option<T>
 where
-    T: Copy + std::ops::Sub<Output = T> + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>,
+    T: Copy
+        + std::ops::Sub<Output = T>
+        + std::ops::Mul<f32, Output = T>
+        + std::ops::Add<Output = T>,
 {
     let [a0, a1, a2] = [
         *values.get(vertices[0] as usize)?,
@@ -117,7 +120,7 @@ where
 /// normal `n` and its derivative `dn`; zero when `n` vanishes.
 pub fn unit_normal_derivative(n: Vec3, dn: Vec3) -> Vec3 {
     let length = n.length();
-    if !(length > 0.0) {
+    if length.is_nan() || length <= 0.0 {
         return Vec3::ZERO;
     }
     let unit = n / length;
@@ -146,7 +149,11 @@ pub struct MirrorHit {
 /// ∂p/∂x, ∂p/∂y; directions turn by the change of `wo` and of the normal. Non-finite results
 /// (from a clamped footprint) become parallel neighbours [`MAX_FOOTPRINT`] away, which the
 /// next hit reads as an unbounded footprint.
-pub fn reflect(rd: &RayDifferential, hit: &MirrorHit, dp: &SurfaceDifferentials) -> RayDifferential {
+pub fn reflect(
+    rd: &RayDifferential,
+    hit: &MirrorHit,
+    dp: &SurfaceDifferentials,
+) -> RayDifferential {
     let one = |r_dir: Vec3, dp: Vec3, dn: Vec3| {
         let dwo = -r_dir - hit.wo;
         let d_dn = dwo.dot(hit.ns) + hit.wo.dot(dn);
@@ -181,7 +188,11 @@ mod tests {
 
     #[test]
     fn barycentric_derivatives_invert_the_edges() {
-        let tri = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 4.0)];
+        let tri = [
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 4.0),
+        ];
         let db = barycentric_derivatives(tri, Vec3::new(1.0, 0.0, 1.0));
         assert!((db - Vec2::new(0.5, 0.25)).abs().max_element() < 1e-6);
         let flat = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];

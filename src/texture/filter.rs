@@ -85,7 +85,11 @@ pub fn isotropic_lod(mip: &MipMap, footprint: &UvFootprint) -> f32 {
     let base = mip.level(0);
     let (dx, dy) = footprint.in_texels(base.width, base.height);
     let rho = dx.length().max(dy.length());
-    if rho.is_nan() { f32::INFINITY } else { rho.log2() }
+    if rho.is_nan() {
+        f32::INFINITY
+    } else {
+        rho.log2()
+    }
 }
 
 /// Filters `mip` at `uv` over `footprint` with `filter`.
@@ -107,7 +111,7 @@ fn trilinear(mip: &MipMap, uv: Vec2, lod: f32) -> Vec4 {
     if lod <= 0.0 {
         return magnify(mip, mip.level(0), uv);
     }
-    if !(lod < top) {
+    if lod.is_nan() || lod >= top {
         return mip.level(mip.level_count() - 1).bilinear(uv, mip.wrap);
     }
     let l0 = lod.floor();
@@ -170,7 +174,7 @@ mod tests {
     fn checker(n: u32) -> MipMap {
         let texels = (0..n * n)
             .map(|i| {
-                if (i % n + i / n) % 2 == 0 {
+                if (i % n + i / n).is_multiple_of(2) {
                     Vec4::ZERO
                 } else {
                     Vec4::ONE
@@ -193,7 +197,10 @@ mod tests {
         };
         for filter in [TextureFilter::Trilinear, TextureFilter::Anisotropic] {
             let v = lookup(&mip, Vec2::new(0.3, 0.7), &wide, filter);
-            assert!((v - Vec4::splat(0.5)).abs().max_element() < 1e-6, "{filter:?}: {v}");
+            assert!(
+                (v - Vec4::splat(0.5)).abs().max_element() < 1e-6,
+                "{filter:?}: {v}"
+            );
             let nan = UvFootprint {
                 duv_dx: Vec2::NAN,
                 duv_dy: Vec2::ZERO,

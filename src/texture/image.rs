@@ -64,7 +64,8 @@ impl TexelGrid {
     /// A grid of `width × height` texels; `None` if the sizes and the texel count disagree
     /// or a side is zero.
     pub fn new(width: u32, height: u32, texels: Vec<Vec4>) -> Option<Self> {
-        let ok = width > 0 && height > 0 && texels.len() as u64 == u64::from(width) * u64::from(height);
+        let ok =
+            width > 0 && height > 0 && texels.len() as u64 == u64::from(width) * u64::from(height);
         ok.then_some(Self {
             width,
             height,

@@ -91,7 +91,13 @@ impl ProceduralTexture {
         let f = self.frequency;
         let q = p * f;
         // Footprint in pattern units; non-finite footprints count as infinitely wide.
-        let sanitize = |v: Vec3| if v.is_finite() { v * f } else { Vec3::splat(f32::MAX) };
+        let sanitize = |v: Vec3| {
+            if v.is_finite() {
+                v * f
+            } else {
+                Vec3::splat(f32::MAX)
+            }
+        };
         let (dx, dy) = (sanitize(dp_dx), sanitize(dp_dy));
         let width = match band {
             Band::Point => Vec3::ZERO,
@@ -135,7 +141,7 @@ fn filtered_square(x: f32, w: f32) -> f32 {
     // Work relative to a period boundary near x, so that large x keeps its precision.
     let x = f64::from(x).rem_euclid(2.0);
     let w = f64::from(w);
-    if !(w > 1e-6) {
+    if w.is_nan() || w <= 1e-6 {
         return if x < 1.0 { 1.0 } else { -1.0 };
     }
     if w >= 2.0 * 1e6 {
@@ -195,8 +201,16 @@ fn blend(corner: impl Fn(IVec3) -> f32, frac: Vec3) -> f32 {
     let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
     let c = |x, y, z| corner(IVec3::new(x, y, z));
     lerp(
-        lerp(lerp(c(0, 0, 0), c(1, 0, 0), u), lerp(c(0, 1, 0), c(1, 1, 0), u), v),
-        lerp(lerp(c(0, 0, 1), c(1, 0, 1), u), lerp(c(0, 1, 1), c(1, 1, 1), u), v),
+        lerp(
+            lerp(c(0, 0, 0), c(1, 0, 0), u),
+            lerp(c(0, 1, 0), c(1, 1, 0), u),
+            v,
+        ),
+        lerp(
+            lerp(c(0, 0, 1), c(1, 0, 1), u),
+            lerp(c(0, 1, 1), c(1, 1, 1), u),
+            v,
+        ),
         w,
     )
 }
@@ -254,7 +268,13 @@ mod tests {
     /// The filtered square wave matches a brute-force average over its box.
     #[test]
     fn filtered_square_matches_numerical_average() {
-        for &(x, w) in &[(0.3f32, 0.5f32), (0.9, 0.4), (1.7, 3.3), (-5.2, 0.01), (10.5, 2.0)] {
+        for &(x, w) in &[
+            (0.3f32, 0.5f32),
+            (0.9, 0.4),
+            (1.7, 3.3),
+            (-5.2, 0.01),
+            (10.5, 2.0),
+        ] {
             let n = 20_000;
             let avg: f64 = (0..n)
                 .map(|i| {
@@ -264,7 +284,10 @@ mod tests {
                 .sum::<f64>()
                 / n as f64;
             let got = filtered_square(x, w);
-            assert!((f64::from(got) - avg).abs() < 1e-3, "x {x} w {w}: {got} vs {avg}");
+            assert!(
+                (f64::from(got) - avg).abs() < 1e-3,
+                "x {x} w {w}: {got} vs {avg}"
+            );
         }
     }
 

@@ -91,7 +91,7 @@ pub fn from_extras(
             }
             if octaves
                 .iter()
-                .any(|[a, f]| !a.is_finite() || !(f.is_finite() && *f > 0.0))
+                .any(|[a, f]| !(a.is_finite() && f.is_finite() && *f > 0.0))
             {
                 return Err(invalid(
                     "every octave needs a finite amplitude and a positive frequency".into(),
@@ -130,7 +130,11 @@ pub fn from_extras(
         }
     };
     let colors = p.colors.unwrap_or([[0.0; 3], [1.0; 3]]);
-    if colors.iter().flatten().any(|c| !(c.is_finite() && *c >= 0.0)) {
+    if colors
+        .iter()
+        .flatten()
+        .any(|c| !(c.is_finite() && *c >= 0.0))
+    {
         return Err(invalid(
             "colors must be two non-negative, finite linear RGB triples".into(),
         ));
