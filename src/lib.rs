@@ -16,3 +16,4 @@ pub mod output;
 pub mod procedural;
 pub mod render;
 pub mod scene;
+pub mod texture;

@@ -82,6 +82,11 @@ pub struct RenderArgs {
     /// Auxiliary images to add to an EXR output (comma-separated).
     #[arg(long, value_delimiter = ',', value_name = "albedo,normal,depth")]
     pub aov: Vec<AovName>,
+    /// Texture filter, overriding the glTF samplers (for experiments): nearest, bilinear and
+    /// bicubic read the full-resolution image only; trilinear and anisotropic use MIP maps and
+    /// ray differentials.
+    #[arg(long, value_enum, default_value_t = crate::texture::TextureFilter::Anisotropic)]
+    pub texture_filter: crate::texture::TextureFilter,
     /// Write 16 bits per channel to PNG.
     #[arg(long)]
     pub png16: bool,
@@ -137,6 +142,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         // add_lights already converted photometric lights (and only those: glint's default
         // lights are radiometric).
         light_units: LightUnits::Radiometric,
+        texture_filter: args.texture_filter,
         ..RenderSettings::default()
     };
 

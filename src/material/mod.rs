@@ -38,6 +38,8 @@ pub struct ShadingMaterial {
     pub emissive_texture: Option<TextureRef>,
     /// Whether back faces are shaded.
     pub double_sided: bool,
+    /// Procedural base colour, multiplied into ρ.
+    pub procedural: Option<crate::texture::ProceduralTexture>,
 }
 
 impl ShadingMaterial {
@@ -53,6 +55,7 @@ impl ShadingMaterial {
             emissive: material.emissive,
             emissive_texture: valid(&material.emissive_texture),
             double_sided: material.double_sided,
+            procedural: material.procedural.clone(),
         }
     }
 

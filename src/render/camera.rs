@@ -14,6 +14,7 @@
 
 use crate::accel::Ray;
 use crate::scene::{Camera, Projection};
+use crate::texture::RayDifferential;
 use glam::Vec3;
 
 /// Generates camera rays for an image of a given size. Directions are unit length, so hit
@@ -110,6 +111,21 @@ impl CameraRays {
                 let origin = self.origin + self.right * ndc_x + self.up * ndc_y;
                 Ray::new(origin, self.forward)
             }
+        }
+    }
+
+    /// The neighbours of the ray through `(x, y)`: the rays through `(x + spacing, y)` and
+    /// `(x, y + spacing)`, for texture filtering. `spacing` is one pixel divided by √spp, the
+    /// film distance between a pixel's samples.
+    #[inline]
+    pub fn ray_differential(&self, x: f32, y: f32, spacing: f32) -> RayDifferential {
+        let rx = self.ray(x + spacing, y);
+        let ry = self.ray(x, y + spacing);
+        RayDifferential {
+            rx_origin: rx.origin,
+            rx_dir: rx.dir,
+            ry_origin: ry.origin,
+            ry_dir: ry.dir,
         }
     }
 }

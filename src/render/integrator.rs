@@ -22,6 +22,11 @@ use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_t
 use crate::light::{Incident, LightSet, PunctualLight, ShadowTarget, Unlit};
 use crate::material::{Lambert, ShadingMaterial, material_index, reflect, texture};
 use crate::scene::{Mesh, Scene, TextureRef};
+use crate::texture::differentials::{
+    self, MirrorHit, SurfaceDifferentials, attribute_derivative, barycentric_derivatives,
+};
+use crate::texture::noise::{Band, Domain};
+use crate::texture::{MipMap, ProceduralTexture, RayDifferential, TextureFilter, UvFootprint};
 use glam::{Vec2, Vec3, Vec4};
 
 /// Everything a tile render reads; shared by all workers.
@@ -37,6 +42,15 @@ pub(crate) struct TileContext<'a> {
     pub spp: u32,
     pub max_depth: u32,
     pub aovs: AovSelection,
+    /// MIP chains of `scene.textures`, index-aligned (empty when the kernel reads no textures).
+    pub mipmaps: Vec<MipMap>,
+    /// How textures are filtered.
+    pub texture_filter: TextureFilter,
+    /// Whether rays carry differentials: the scene has textures and the filter reads
+    /// footprints. Only read by kernels with textures on.
+    pub differentials: bool,
+    /// Film distance between neighbouring samples, 1/√spp pixels.
+    pub differential_spacing: f32,
 }
 
 /// A path vertex waiting for its ray's hit: which pixel it feeds and with what weight.
@@ -70,6 +84,9 @@ pub(crate) struct Scratch {
     shadow_rays: Vec<Ray>,
     shadow_values: Vec<(u32, Vec3)>,
     occluded: Vec<bool>,
+    /// Ray differentials, index-aligned with `rays` (empty unless carried).
+    diffs: Vec<RayDifferential>,
+    next_diffs: Vec<RayDifferential>,
 }
 
 /// Renders one tile: all samples of all its pixels. The const switches remove per-hit work
@@ -86,14 +103,23 @@ pub(crate) fn render_tile<
 ) -> (TileSums, RayCounts) {
     let mut sums = TileSums::new(tile.pixel_count(), ctx.aovs);
     let mut counts = RayCounts::default();
+    // Differentials exist only in texture kernels, and only when a filter reads them.
+    let carry = TEXTURES && ctx.differentials;
     for sample in 0..ctx.spp {
         s.rays.clear();
         s.paths.clear();
+        s.diffs.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
             let offset = ctx.sampler.offset(x, y, sample);
-            s.rays
-                .push(ctx.camera.ray(x as f32 + offset.x, y as f32 + offset.y));
+            let (fx, fy) = (x as f32 + offset.x, y as f32 + offset.y);
+            s.rays.push(ctx.camera.ray(fx, fy));
+            if carry {
+                s.diffs.push(
+                    ctx.camera
+                        .ray_differential(fx, fy, ctx.differential_spacing),
+                );
+            }
             s.paths.push(PathVertex {
                 pixel: local as u32,
                 throughput: Vec3::ONE,
@@ -119,15 +145,18 @@ pub(crate) fn render_tile<
             s.points.clear();
             s.next_rays.clear();
             s.next_paths.clear();
+            s.next_diffs.clear();
             let may_reflect = MIRRORS && depth < ctx.max_depth;
             for i in 0..s.rays.len() {
                 let (Some(hit), path) = (s.hits[i], s.paths[i]) else {
                     continue;
                 };
                 let ray = s.rays[i];
+                let diff = if carry { s.diffs.get(i) } else { None };
                 shade_hit::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS>(
                     ctx,
                     &ray,
+                    diff,
                     &hit,
                     path,
                     primary,
@@ -136,6 +165,7 @@ pub(crate) fn render_tile<
                     &mut s.points,
                     &mut s.next_rays,
                     &mut s.next_paths,
+                    &mut s.next_diffs,
                 );
             }
 
@@ -173,6 +203,7 @@ pub(crate) fn render_tile<
 
             std::mem::swap(&mut s.rays, &mut s.next_rays);
             std::mem::swap(&mut s.paths, &mut s.next_paths);
+            std::mem::swap(&mut s.diffs, &mut s.next_diffs);
             depth += 1;
         }
     }
@@ -186,6 +217,7 @@ pub(crate) fn render_tile<
 fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS: bool>(
     ctx: &TileContext<'_>,
     ray: &Ray,
+    diff: Option<&RayDifferential>,
     hit: &Hit,
     path: PathVertex,
     primary: bool,
@@ -194,6 +226,7 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
     points: &mut Vec<ShadingPoint>,
     next_rays: &mut Vec<Ray>,
     next_paths: &mut Vec<PathVertex>,
+    next_diffs: &mut Vec<RayDifferential>,
 ) {
     let Some(mesh) = ctx.scene.meshes.get(hit.geom_id as usize) else {
         return;
@@ -212,12 +245,21 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
         albedo *= si.interpolate(colors).unwrap_or(Vec4::ONE).truncate();
     }
     let mut emission = material.emissive;
+    // The hit's footprint: ∂p/∂x, ∂p/∂y on the tangent plane and the barycentric derivatives.
+    let footprint = if TEXTURES {
+        diff.and_then(|rd| Footprint::at(mesh, &si, rd))
+    } else {
+        None
+    };
     if TEXTURES {
         if let Some(t) = &material.base_color_texture {
-            albedo *= texture_value(ctx.scene, mesh, &si, t).truncate();
+            albedo *= texture_value(ctx, mesh, &si, footprint.as_ref(), t).truncate();
         }
         if let Some(t) = &material.emissive_texture {
-            emission *= texture_value(ctx.scene, mesh, &si, t).truncate();
+            emission *= texture_value(ctx, mesh, &si, footprint.as_ref(), t).truncate();
+        }
+        if let Some(procedural) = &material.procedural {
+            albedo *= procedural_value(ctx, mesh, &si, footprint.as_ref(), procedural);
         }
     }
 
@@ -259,6 +301,22 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
         if throughput != Vec3::ZERO {
             let wr = reflect(si.wo, si.ns);
             next_rays.push(spawn_ray(si.p, si.p_error, si.ng, wr));
+            if let (Some(rd), Some(f)) = (diff, &footprint) {
+                let (dn_dx, dn_dy) = if SHADING_NORMALS {
+                    normal_derivatives(mesh, &si, f)
+                } else {
+                    (Vec3::ZERO, Vec3::ZERO)
+                };
+                let mirror = MirrorHit {
+                    p: si.p,
+                    wo: si.wo,
+                    ns: si.ns,
+                    dn_dx,
+                    dn_dy,
+                    wi: wr,
+                };
+                next_diffs.push(differentials::reflect(rd, &mirror, &f.surface));
+            }
             next_paths.push(PathVertex {
                 pixel: path.pixel,
                 throughput,
@@ -267,20 +325,142 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
     }
 }
 
-/// The texture's value at the hit: interpolated texture coordinates, the texture transform,
-/// then a filtered lookup. A mesh without the referenced coordinate set reads at (0, 0).
-#[inline]
-fn texture_value(scene: &Scene, mesh: &Mesh, si: &SurfaceInteraction, t: &TextureRef) -> Vec4 {
-    let uv = mesh
-        .texcoords
-        .get(t.texcoord)
-        .and_then(|set| set.as_deref())
-        .and_then(|uvs| si.interpolate(uvs))
-        .unwrap_or(Vec2::ZERO);
-    match scene.textures.get(t.texture) {
-        Some(texture) => texture::sample(texture, t.transform.transform_point2(uv)),
-        None => Vec4::ONE,
+/// A hit's footprint from its ray differential.
+struct Footprint {
+    /// ∂p/∂x and ∂p/∂y on the tangent plane.
+    surface: SurfaceDifferentials,
+    /// Barycentric derivatives (∂b₁, ∂b₂) along film x.
+    db_dx: Vec2,
+    /// Along film y.
+    db_dy: Vec2,
+}
+
+impl Footprint {
+    /// `None` if the triangle's vertices are out of range (the hit is then unfiltered).
+    #[inline]
+    fn at(mesh: &Mesh, si: &SurfaceInteraction, rd: &RayDifferential) -> Option<Self> {
+        let [a, b, c] = si.vertices.map(|i| mesh.positions.get(i as usize).copied());
+        let triangle = [a?, b?, c?];
+        let surface = differentials::at_surface(rd, si.p, si.ng);
+        Some(Self {
+            db_dx: barycentric_derivatives(triangle, surface.dp_dx),
+            db_dy: barycentric_derivatives(triangle, surface.dp_dy),
+            surface,
+        })
     }
+
+    /// The derivatives of a per-vertex attribute.
+    #[inline]
+    fn of<T>(&self, values: &[T], si: &SurfaceInteraction) -> Option<(T, T)>
+    where
+        T: Copy
+            + std::ops::Sub<Output = T>
+            + std::ops::Mul<f32, Output = T>
+            + std::ops::Add<Output = T>,
+    {
+        Some((
+            attribute_derivative(values, si.vertices, self.db_dx)?,
+            attribute_derivative(values, si.vertices, self.db_dy)?,
+        ))
+    }
+}
+
+/// ∂ns/∂x and ∂ns/∂y of the interpolated, normalised (and side-flipped) shading normal.
+#[inline]
+fn normal_derivatives(mesh: &Mesh, si: &SurfaceInteraction, f: &Footprint) -> (Vec3, Vec3) {
+    let Some(normals) = &mesh.normals else {
+        return (Vec3::ZERO, Vec3::ZERO);
+    };
+    let (Some(n), Some((dx, dy))) = (si.interpolate(normals), f.of(normals, si)) else {
+        return (Vec3::ZERO, Vec3::ZERO);
+    };
+    let sign = if si.front_face { 1.0 } else { -1.0 };
+    (
+        sign * differentials::unit_normal_derivative(n, dx),
+        sign * differentials::unit_normal_derivative(n, dy),
+    )
+}
+
+/// Texture coordinates of set `set` at the hit and their footprint (zero without
+/// differentials). A mesh without the set reads at (0, 0).
+#[inline]
+fn texcoords(
+    mesh: &Mesh,
+    si: &SurfaceInteraction,
+    footprint: Option<&Footprint>,
+    set: usize,
+) -> (Vec2, UvFootprint) {
+    let Some(uvs) = mesh.texcoords.get(set).and_then(|s| s.as_deref()) else {
+        return (Vec2::ZERO, UvFootprint::default());
+    };
+    let uv = si.interpolate(uvs).unwrap_or(Vec2::ZERO);
+    let duv = footprint
+        .and_then(|f| f.of(uvs, si))
+        .map(|(duv_dx, duv_dy)| UvFootprint { duv_dx, duv_dy })
+        .unwrap_or_default();
+    (uv, duv)
+}
+
+/// The texture's value at the hit: interpolated texture coordinates and their footprint, the
+/// texture transform applied to both, then a filtered lookup.
+#[inline]
+fn texture_value(
+    ctx: &TileContext<'_>,
+    mesh: &Mesh,
+    si: &SurfaceInteraction,
+    footprint: Option<&Footprint>,
+    t: &TextureRef,
+) -> Vec4 {
+    let (uv, duv) = texcoords(mesh, si, footprint, t.texcoord);
+    let m = t.transform.matrix2;
+    let duv = UvFootprint {
+        duv_dx: m * duv.duv_dx,
+        duv_dy: m * duv.duv_dy,
+    };
+    match ctx.mipmaps.get(t.texture) {
+        Some(mip) => crate::texture::lookup(
+            mip,
+            t.transform.transform_point2(uv),
+            &duv,
+            ctx.texture_filter,
+        ),
+        // No MIP chain (a caller built the context without one): the base level.
+        None => match ctx.scene.textures.get(t.texture) {
+            Some(texture) => texture::sample(texture, t.transform.transform_point2(uv)),
+            None => Vec4::ONE,
+        },
+    }
+}
+
+/// A procedural texture's colour at the hit, band-limited as the filter asks.
+#[inline]
+fn procedural_value(
+    ctx: &TileContext<'_>,
+    mesh: &Mesh,
+    si: &SurfaceInteraction,
+    footprint: Option<&Footprint>,
+    procedural: &ProceduralTexture,
+) -> Vec3 {
+    let band = match ctx.texture_filter {
+        TextureFilter::Nearest | TextureFilter::Bilinear | TextureFilter::Bicubic => Band::Point,
+        TextureFilter::Trilinear => Band::Isotropic,
+        TextureFilter::Anisotropic => Band::Anisotropic,
+    };
+    let (p, dx, dy) = match procedural.domain {
+        Domain::Uv(set) => {
+            let (uv, duv) = texcoords(mesh, si, footprint, set);
+            (
+                uv.extend(0.0),
+                duv.duv_dx.extend(0.0),
+                duv.duv_dy.extend(0.0),
+            )
+        }
+        Domain::World => match footprint {
+            Some(f) => (si.p, f.surface.dp_dx, f.surface.dp_dy),
+            None => (si.p, Vec3::ZERO, Vec3::ZERO),
+        },
+    };
+    procedural.color(p, dx, dy, band)
 }
 
 /// Where new shadow rays go.

@@ -27,6 +27,7 @@ use crate::accel::{Accel, AccelError, BackendKind, BuildOptions};
 use crate::light::{LightError, LightSet, LightUnits};
 use crate::material::ShadingMaterial;
 use crate::scene::{Camera, Scene, SceneFeatures};
+use crate::texture::{MipMap, TextureFilter};
 use glam::Vec3;
 use integrator::{Scratch, TileContext};
 use rayon::prelude::*;
@@ -61,6 +62,8 @@ pub struct RenderSettings {
     pub light_units: LightUnits,
     /// Specialised or general shading kernel.
     pub kernel: KernelChoice,
+    /// How textures are filtered (anisotropic by default).
+    pub texture_filter: TextureFilter,
 }
 
 impl Default for RenderSettings {
@@ -76,6 +79,7 @@ impl Default for RenderSettings {
             aovs: AovSelection::default(),
             light_units: LightUnits::Radiometric,
             kernel: KernelChoice::Specialised,
+            texture_filter: TextureFilter::default(),
         }
     }
 }
@@ -177,6 +181,13 @@ pub fn render(
         })?;
     let features = SceneFeatures::of(scene);
     let flags = KernelFlags::for_scene(&features, settings.kernel);
+    // MIP chains are built once per render, only when the kernel reads textures.
+    let mipmaps: Vec<MipMap> = if flags.textures {
+        scene.textures.par_iter().map(MipMap::new).collect()
+    } else {
+        Vec::new()
+    };
+    let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
     let ctx = TileContext {
         scene,
         accel,
@@ -188,6 +199,10 @@ pub fn render(
         spp: settings.spp,
         max_depth: settings.max_depth,
         aovs: settings.aovs,
+        mipmaps,
+        texture_filter: settings.texture_filter,
+        differentials: features.textures && settings.texture_filter.uses_footprint(),
+        differential_spacing: 1.0 / (settings.spp as f32).sqrt(),
     };
     let render_tile = kernel::select(&flags);
     let pool = thread_pool(settings.threads, accel.kind())?;
@@ -225,6 +240,7 @@ pub fn render(
             rays,
             features,
             kernel: flags,
+            texture_bytes,
         },
     })
 }

@@ -58,6 +58,8 @@ pub struct RenderStats {
     pub features: SceneFeatures,
     /// Which work the kernel that ran does.
     pub kernel: KernelFlags,
+    /// Bytes of texture texels the render held, MIP chains included.
+    pub texture_bytes: u64,
 }
 
 impl RenderStats {
@@ -114,6 +116,12 @@ impl RenderStats {
             r.skipped_outside_cone,
             r.skipped_beyond_range,
         );
+        if self.texture_bytes > 0 {
+            line.push_str(&format!(
+                "; textures {:.1} MiB with MIP maps",
+                self.texture_bytes as f64 / (1024.0 * 1024.0)
+            ));
+        }
         let skipped = self.not_modelled();
         if !skipped.is_empty() {
             line.push_str("; ");
@@ -146,6 +154,7 @@ mod tests {
             },
             features,
             kernel: KernelFlags::for_scene(&features, super::super::KernelChoice::Specialised),
+            texture_bytes: 3 << 20,
         };
         assert!((stats.mrays_per_second() - 3.0).abs() < 1e-9);
         let line = stats.summary();
@@ -157,6 +166,7 @@ mod tests {
             "7 facing away",
             "no textures: no texcoord interpolation",
             "no spot lights: no cone tests",
+            "textures 3.0 MiB with MIP maps",
         ] {
             assert!(line.contains(part), "missing '{part}' in: {line}");
         }

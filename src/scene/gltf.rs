@@ -50,6 +50,7 @@ mod materials;
 mod nodes;
 mod objects;
 mod primitives;
+mod procedural;
 mod source;
 
 pub use error::LoadError;

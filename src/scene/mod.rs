@@ -71,6 +71,9 @@ pub struct Material {
     pub emissive_texture: Option<TextureRef>,
     /// Whether back faces are shaded (otherwise they render black, as glTF specifies).
     pub double_sided: bool,
+    /// A procedural base colour (from the material's glTF `extras`), multiplied into ρ like
+    /// a base colour texture.
+    pub procedural: Option<crate::texture::ProceduralTexture>,
 }
 
 /// Roughness at or below which a metallic surface is a perfect mirror.
@@ -88,6 +91,7 @@ impl Default for Material {
             emissive: Vec3::ZERO,
             emissive_texture: None,
             double_sided: false,
+            procedural: None,
         }
     }
 }

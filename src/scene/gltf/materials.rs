@@ -99,6 +99,7 @@ pub fn load(
                 &label,
             ),
             double_sided: material.double_sided(),
+            procedural: super::procedural::from_extras(material.extras(), &label, origin)?,
         });
     }
 
