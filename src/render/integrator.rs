@@ -34,7 +34,8 @@ pub(crate) struct TileContext<'a> {
     pub lights: LightSet,
     /// Loop over per-type light lists (specialised) or the run-time typed list (general).
     pub typed_lights: bool,
-    pub spp: u32,
+    /// The sample indices to render (of the sampler's samples per pixel).
+    pub samples: std::ops::Range<u32>,
     pub max_depth: u32,
     pub aovs: AovSelection,
 }
@@ -86,7 +87,7 @@ pub(crate) fn render_tile<
 ) -> (TileSums, RayCounts) {
     let mut sums = TileSums::new(tile.pixel_count(), ctx.aovs);
     let mut counts = RayCounts::default();
-    for sample in 0..ctx.spp {
+    for sample in ctx.samples.clone() {
         s.rays.clear();
         s.paths.clear();
         for local in 0..tile.pixel_count() {
