@@ -270,7 +270,12 @@ pub fn render_film(
     });
     let elapsed = start.elapsed();
 
-    let mut film = Film::new(settings.width, settings.height, samples.len() as u32, settings.aovs);
+    let mut film = Film::new(
+        settings.width,
+        settings.height,
+        samples.len() as u32,
+        settings.aovs,
+    );
     let mut rays = RayCounts::default();
     for (tile, (sums, counts)) in tiles.iter().zip(&results) {
         film.add_tile(tile, sums);

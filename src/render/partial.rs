@@ -56,9 +56,7 @@ pub enum MergeError {
         expected: String,
     },
     /// Two parts hold the same sample.
-    #[error(
-        "samples {first:?} and {second:?} overlap: a sample would count twice; drop one part"
-    )]
+    #[error("samples {first:?} and {second:?} overlap: a sample would count twice; drop one part")]
     Overlap {
         /// One range.
         first: Range<u32>,
@@ -200,7 +198,11 @@ pub fn merge(parts: &[PartialImage]) -> Result<(Image<Vec3>, Aovs), MergeError> 
             .zip(&weights)
             .map(|(s, &w)| {
                 let inv = if w > 0.0 { 1.0 / w } else { 0.0 };
-                Vec3::new((s[0] * inv) as f32, (s[1] * inv) as f32, (s[2] * inv) as f32)
+                Vec3::new(
+                    (s[0] * inv) as f32,
+                    (s[1] * inv) as f32,
+                    (s[2] * inv) as f32,
+                )
             })
             .collect(),
     };
@@ -212,11 +214,7 @@ pub fn merge(parts: &[PartialImage]) -> Result<(Image<Vec3>, Aovs), MergeError> 
     let albedo = aov3(|p| p.aov_sums.albedo.as_ref());
     let normal = aov3(|p| p.aov_sums.normal.as_ref());
     let depth = first.aov_sums.depth.as_ref().map(|_| {
-        let sums = resolve(
-            &order,
-            |p| p.aov_sums.depth.as_ref(),
-            |&d| [d as f64],
-        );
+        let sums = resolve(&order, |p| p.aov_sums.depth.as_ref(), |&d| [d as f64]);
         Image {
             width,
             height,
