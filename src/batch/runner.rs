@@ -10,9 +10,10 @@
 //!
 //! Resume: a job whose output exists and is complete is skipped. glint writes every output
 //! atomically (temporary file, then rename), so a file present under the output's name is
-//! complete; the runner also decodes its header and checks the image size against the
-//! job's `width`/`height` (where the job gives them), so a foreign or stale file of another
-//! size is rendered again. A failing job (bad scene, bad path, even a panic) is reported and
+//! complete. The runner still decodes the whole file and checks the image size against the
+//! job's `width`/`height` (where the job gives them), so a file glint did not write (copied
+//! in, truncated by hand) or a stale one of another size is rendered again; decoding a small
+//! image costs far less than rendering it. A failing job (bad scene, bad path, even a panic) is reported and
 //! the others go on.
 
 use super::jobs::{CameraOverride, Job};
@@ -238,13 +239,16 @@ pub fn output_is_complete(job: &Job) -> bool {
         return false;
     }
     let size = match crate::output::OutputFormat::from_path(path) {
-        Ok(crate::output::OutputFormat::Png) => image::image_dimensions(path).ok(),
-        Ok(crate::output::OutputFormat::Exr) => exr::meta::MetaData::read_from_file(path, false)
+        Ok(crate::output::OutputFormat::Png) => image::open(path)
             .ok()
-            .and_then(|m| {
-                m.headers
+            .map(|image| (image.width(), image.height())),
+        Ok(crate::output::OutputFormat::Exr) => exr::prelude::read_all_flat_layers_from_file(path)
+            .ok()
+            .and_then(|image| {
+                image
+                    .layer_data
                     .first()
-                    .map(|h| (h.layer_size.0 as u32, h.layer_size.1 as u32))
+                    .map(|layer| (layer.size.0 as u32, layer.size.1 as u32))
             }),
         Err(_) => None,
     };
