@@ -143,7 +143,7 @@ pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
             .channel_data
             .list
             .iter()
-            .find(|c| c.name == Text::from(name))
+            .find(|c| c.name == *name)
             .map(|c| c.sample_data.values_as_f32().collect())
     };
     let image3 = |names: [&str; 3]| -> Option<Image<Vec3>> {
