@@ -35,8 +35,15 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
     let jobs = batch::jobs::load(&args.jobs).map_err(CliError::from_display)?;
     let shard = args.shard.unwrap_or(Shard::ALL);
     if args.list {
+        use std::io::Write;
+        let mut out = std::io::stdout().lock();
         for job in jobs.iter().filter(|j| shard.takes(j.index)) {
-            println!("{}\t{}\t{}", job.index, job.origin, job.output().display());
+            // A closed pipe (`| head`) ends the listing quietly.
+            if writeln!(out, "{}\t{}\t{}", job.index, job.origin, job.output().display())
+                .is_err()
+            {
+                break;
+            }
         }
         return Ok(());
     }
