@@ -158,8 +158,8 @@ pub fn parse(text: &str, path: &Path) -> Result<Vec<Job>, JobFileError> {
     }
     for (i, sweep_table) in tables("sweep")?.iter().enumerate() {
         let origin = format!("[[sweep]] {i}");
-        let expanded = sweep::expand(sweep_table, is_list_option)
-            .map_err(|message| err(&origin, message))?;
+        let expanded =
+            sweep::expand(sweep_table, is_list_option).map_err(|message| err(&origin, message))?;
         for variant in expanded {
             let origin = format!("{origin}, {}", variant.label);
             jobs.push(context.job(&variant.table, &origin, jobs.len())?);

@@ -39,8 +39,14 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
         let mut out = std::io::stdout().lock();
         for job in jobs.iter().filter(|j| shard.takes(j.index)) {
             // A closed pipe (`| head`) ends the listing quietly.
-            if writeln!(out, "{}\t{}\t{}", job.index, job.origin, job.output().display())
-                .is_err()
+            if writeln!(
+                out,
+                "{}\t{}\t{}",
+                job.index,
+                job.origin,
+                job.output().display()
+            )
+            .is_err()
             {
                 break;
             }
