@@ -7,6 +7,7 @@
 
 #[allow(unsafe_code)]
 pub mod accel;
+pub mod batch;
 pub mod bench;
 pub mod cli;
 pub mod geometry;

@@ -2,11 +2,11 @@
 //! lights where it has none, render it and write a PNG or EXR atomically.
 
 use super::CliError;
-use crate::accel::{BackendKind, BuildOptions};
+use crate::accel::{Accel, BackendKind, BuildOptions};
 use crate::light::LightUnits;
 use crate::output::{OutputFormat, PngDepth, PngOptions, write_exr, write_png};
-use crate::render::{self, AovSelection, RenderSettings};
-use crate::scene::{self, Camera, Projection, Scene};
+use crate::render::{self, AovSelection, Progress, RenderInputs, RenderSettings, RenderStats};
+use crate::scene::{self, Camera, Light, Projection, Scene};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -93,6 +93,38 @@ pub struct RenderArgs {
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Render only the samples START..END (end exclusive) of the --spp samples and write a
+    /// partial EXR of sample sums and weights, for `glint merge`.
+    #[arg(long, value_name = "START..END", conflicts_with = "shard")]
+    pub sample_range: Option<String>,
+    /// Render shard I of N of the samples (a balanced split of 0..spp) as a partial EXR, for
+    /// `glint merge`; I counts from 0.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<crate::batch::Shard>,
+}
+
+/// A loaded scene and its ray-query structure, shared by the renders of `glint batch`.
+#[derive(Clone, Copy)]
+pub struct Prepared<'a> {
+    /// The scene as loaded (its own lights; job lights are added per render).
+    pub scene: &'a Scene,
+    /// Its ray-query structure.
+    pub accel: &'a dyn Accel,
+}
+
+/// What [`render_prepared`] rendered and wrote.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The file written.
+    pub output: PathBuf,
+    /// Image size in pixels.
+    pub width: u32,
+    /// Image size in pixels.
+    pub height: u32,
+    /// The samples rendered (all of 0..spp unless a partial render).
+    pub samples: std::ops::Range<u32>,
+    /// What the render traced.
+    pub stats: RenderStats,
 }
 
 /// Runs `glint render`.
@@ -106,18 +138,71 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         }
     };
 
-    let mut scene = match &args.scene {
+    let scene = match &args.scene {
         Some(path) => scene::gltf::load(path),
         None => scene::demo::demo_scene(),
     }
     .map_err(CliError::from_display)?;
-
     let label = match &args.scene {
         Some(path) => path.display().to_string(),
         None => "demo scene".to_string(),
     };
-    let camera = choose_camera(&scene, args.camera, &say)?;
-    add_lights(&mut scene, &args, &camera, &say)?;
+    // Checked before the (possibly long) build of the ray-query structure.
+    choose_camera(&scene, args.camera, &|_| {})?;
+    let accel = render::prepare(&scene, args.backend, BuildOptions::default())
+        .map_err(|e| CliError(format!("{label}: {e}")))?;
+
+    let bar = DelayedProgress::new(args.quiet);
+    let report = |done: usize, total: usize| bar.update(done, total);
+    let prepared = Prepared {
+        scene: &scene,
+        accel: accel.as_ref(),
+    };
+    let result = render_prepared(&args, prepared, None, None, Some(&report), &say);
+    bar.finish();
+    let done = result.map_err(|e| CliError(format!("{label}: {e}")))?;
+    let partial = if done.samples.len() as u32 == args.spp {
+        String::new()
+    } else {
+        format!(
+            ", samples {}..{} (partial)",
+            done.samples.start, done.samples.end
+        )
+    };
+    say(format!(
+        "wrote {} ({}×{}, {} spp{partial}, {}): {}",
+        done.output.display(),
+        done.width,
+        done.height,
+        args.spp,
+        args.backend,
+        done.stats.summary()
+    ));
+    Ok(())
+}
+
+/// Renders a prepared scene as `args` asks and writes the output (path from
+/// [`output_path`]): the camera (`camera`, else `--camera`, else a default one), the lights
+/// (the scene's, `--light`/`--lights`, else defaults), the image size and settings, and the
+/// samples (all, or a `--sample-range`/`--shard` partial EXR). `glint render` and each job of
+/// `glint batch` go through here. `pool`: see [`RenderInputs::pool`].
+pub fn render_prepared(
+    args: &RenderArgs,
+    prepared: Prepared<'_>,
+    camera: Option<Camera>,
+    pool: Option<&rayon::ThreadPool>,
+    progress: Option<Progress<'_>>,
+    say: &dyn Fn(String),
+) -> Result<Rendered, CliError> {
+    let output = output_path(args);
+    let format = OutputFormat::from_path(&output).map_err(CliError::from_display)?;
+    check_options(args, &output, format)?;
+    let scene = prepared.scene;
+    let camera = match camera {
+        Some(camera) => camera,
+        None => choose_camera(scene, args.camera, say)?,
+    };
+    let lights = job_lights(scene, args, &camera, say)?;
     let (width, height) = image_size(args.width, args.height, &camera);
     if let (Some(_), Some(_), Some(fixed)) = (args.width, args.height, fixed_aspect(&camera))
         && ((width as f32 / height as f32) / fixed - 1.0).abs() > 0.01
@@ -128,34 +213,34 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             camera.name
         ));
     }
-
-    let accel = render::prepare(&scene, args.backend, BuildOptions::default())
-        .map_err(|e| CliError(format!("{label}: {e}")))?;
-    let settings = RenderSettings {
-        width,
-        height,
-        spp: args.spp,
-        seed: args.seed,
-        max_depth: args.max_depth,
-        threads: args.threads,
-        aovs: aov_selection(&args.aov),
-        // add_lights already converted photometric lights (and only those: glint's default
-        // lights are radiometric).
-        light_units: LightUnits::Radiometric,
-        texture_filter: args.texture_filter,
-        ..RenderSettings::default()
+    let settings = render_settings(args, width, height);
+    let inputs = RenderInputs {
+        scene,
+        lights: &lights,
+        accel: prepared.accel,
+        camera: &camera,
+        pool,
     };
-
-    let bar = DelayedProgress::new(args.quiet);
-    let report = |done: usize, total: usize| bar.update(done, total);
-    let result = render::render(&scene, accel.as_ref(), &camera, &settings, Some(&report));
-    bar.finish();
-    let out = result.map_err(|e| CliError(format!("{label}: {e}")))?;
-
+    if let Some(samples) = partial_samples(args)? {
+        let (part, stats) =
+            render::partial::render_partial(&inputs, &settings, samples.clone(), progress)
+                .map_err(CliError::from_display)?;
+        crate::batch::parts::write_partial_exr(&output, &part).map_err(CliError::from_display)?;
+        return Ok(Rendered {
+            output,
+            width,
+            height,
+            samples,
+            stats,
+        });
+    }
+    let (film, stats) = render::render_film(&inputs, &settings, 0..settings.spp, progress)
+        .map_err(CliError::from_display)?;
+    let (image, aovs) = film.resolve();
     match format {
         OutputFormat::Png => write_png(
             &output,
-            &out.image,
+            &image,
             PngOptions {
                 exposure_ev: args.exposure,
                 depth: if args.png16 {
@@ -165,22 +250,56 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
                 },
             },
         ),
-        OutputFormat::Exr => write_exr(&output, &out.image, &out.aovs),
+        OutputFormat::Exr => write_exr(&output, &image, &aovs),
     }
     .map_err(CliError::from_display)?;
+    Ok(Rendered {
+        output,
+        width,
+        height,
+        samples: 0..settings.spp,
+        stats,
+    })
+}
 
-    say(format!(
-        "wrote {} ({width}×{height}, {} spp, {}): {}",
-        output.display(),
-        args.spp,
-        args.backend,
-        out.stats.summary()
-    ));
-    Ok(())
+/// The render settings `args` asks for, at the given image size.
+pub fn render_settings(args: &RenderArgs, width: u32, height: u32) -> RenderSettings {
+    RenderSettings {
+        width,
+        height,
+        spp: args.spp,
+        seed: args.seed,
+        max_depth: args.max_depth,
+        threads: args.threads,
+        aovs: aov_selection(&args.aov),
+        // job_lights already converted photometric lights (and only those: glint's default
+        // lights are radiometric).
+        light_units: LightUnits::Radiometric,
+        texture_filter: args.texture_filter,
+        ..RenderSettings::default()
+    }
+}
+
+/// The samples of a partial render (`--sample-range` or `--shard`), or `None` for a full one.
+pub fn partial_samples(args: &RenderArgs) -> Result<Option<std::ops::Range<u32>>, CliError> {
+    let samples = match (&args.sample_range, args.shard) {
+        (Some(text), _) => render::partial::parse_sample_range(text)
+            .map_err(|e| CliError(format!("--sample-range: {e}")))?,
+        (None, Some(shard)) => render::partial::shard_samples(args.spp, shard.index, shard.count),
+        (None, None) => return Ok(None),
+    };
+    if samples.is_empty() || samples.end > args.spp {
+        return Err(CliError(format!(
+            "samples {}..{} are not a non-empty part of the {} samples per pixel; pick a range \
+             within 0..{} (or fewer shards than samples)",
+            samples.start, samples.end, args.spp, args.spp
+        )));
+    }
+    Ok(Some(samples))
 }
 
 /// The output path: `-o`, or a default from the scene's name.
-fn output_path(args: &RenderArgs) -> PathBuf {
+pub fn output_path(args: &RenderArgs) -> PathBuf {
     match (&args.output, &args.scene) {
         (Some(path), _) => path.clone(),
         (None, None) => PathBuf::from(DEMO_OUTPUT),
@@ -192,10 +311,21 @@ fn output_path(args: &RenderArgs) -> PathBuf {
 }
 
 /// Rejects option combinations that cannot be honoured, before any work is done.
-fn check_options(args: &RenderArgs, output: &Path, format: OutputFormat) -> Result<(), CliError> {
+pub fn check_options(
+    args: &RenderArgs,
+    output: &Path,
+    format: OutputFormat,
+) -> Result<(), CliError> {
     if format == OutputFormat::Png && !args.aov.is_empty() {
         return Err(CliError(format!(
             "{}: --aov needs an EXR output (AOVs are linear data); use -o NAME.exr",
+            output.display()
+        )));
+    }
+    if format == OutputFormat::Png && (args.sample_range.is_some() || args.shard.is_some()) {
+        return Err(CliError(format!(
+            "{}: a partial render (--sample-range, --shard) writes sample sums to EXR; use -o \
+             NAME.exr and combine the parts with glint merge",
             output.display()
         )));
     }
@@ -235,10 +365,10 @@ fn check_options(args: &RenderArgs, output: &Path, format: OutputFormat) -> Resu
 }
 
 /// The camera to render through, announcing a default one.
-fn choose_camera(
+pub fn choose_camera(
     scene: &Scene,
     index: Option<usize>,
-    say: &impl Fn(String),
+    say: &dyn Fn(String),
 ) -> Result<Camera, CliError> {
     match index {
         Some(i) => scene.cameras.get(i).cloned().ok_or_else(|| {
@@ -263,15 +393,16 @@ fn choose_camera(
     }
 }
 
-/// Adds `--light` and `--lights` lights and, with `--photometric`, converts the scene's and
-/// these lights to radiometric units; a scene left without any light gets the default lights
-/// (radiometric already).
-fn add_lights(
-    scene: &mut Scene,
+/// The lights to render with: the scene's plus `--light` and `--lights` lights, converted to
+/// radiometric units with `--photometric`; a scene left without any light gets the default
+/// lights (radiometric already), placed relative to `camera`.
+pub fn job_lights(
+    scene: &Scene,
     args: &RenderArgs,
     camera: &Camera,
-    say: &impl Fn(String),
-) -> Result<(), CliError> {
+    say: &dyn Fn(String),
+) -> Result<Vec<Light>, CliError> {
+    let mut lights = scene.lights.clone();
     let mut extra = Vec::new();
     for spec in &args.light {
         extra.push(
@@ -284,17 +415,17 @@ fn add_lights(
     }
     if args.photometric {
         let factor = LightUnits::Photometric.to_radiometric();
-        for light in scene.lights.iter_mut().chain(extra.iter_mut()) {
+        for light in lights.iter_mut().chain(extra.iter_mut()) {
             *light = crate::light::scaled(light, factor);
         }
     }
-    if scene.lights.is_empty() && extra.is_empty() {
+    if lights.is_empty() && extra.is_empty() {
         let defaults = scene::defaults::default_lights(scene, camera);
         say(scene::defaults::describe_lights(&defaults));
         extra = defaults;
     }
-    scene.lights.extend(extra);
-    Ok(())
+    lights.extend(extra);
+    Ok(lights)
 }
 
 /// The aspect ratio (width / height) the camera fixes, if any.

@@ -142,6 +142,21 @@ impl Film {
         }
     }
 
+    /// The unresolved sums: radiance and the selected AOVs, each summed (not averaged) over
+    /// the pixel's samples, and the number of samples every pixel received. Partial renders
+    /// write these so that parts can be merged before dividing.
+    pub fn into_sums(self) -> (Image<Vec3>, Aovs, u32) {
+        (
+            self.radiance,
+            Aovs {
+                albedo: self.albedo,
+                normal: self.normal,
+                depth: self.depth,
+            },
+            self.samples_per_pixel,
+        )
+    }
+
     /// Box-filter reconstruction: each pixel's sum divided by its sample count.
     pub fn resolve(self) -> (Image<Vec3>, Aovs) {
         let inv = 1.0 / self.samples_per_pixel as f32;

@@ -39,7 +39,8 @@ pub(crate) struct TileContext<'a> {
     pub lights: LightSet,
     /// Loop over per-type light lists (specialised) or the run-time typed list (general).
     pub typed_lights: bool,
-    pub spp: u32,
+    /// The sample indices to render (of the sampler's samples per pixel).
+    pub samples: std::ops::Range<u32>,
     pub max_depth: u32,
     pub aovs: AovSelection,
     /// MIP chains of `scene.textures`, index-aligned (empty when the kernel reads no textures).
@@ -105,7 +106,7 @@ pub(crate) fn render_tile<
     let mut counts = RayCounts::default();
     // Differentials exist only in texture kernels, and only when a filter reads them.
     let carry = TEXTURES && ctx.differentials;
-    for sample in 0..ctx.spp {
+    for sample in ctx.samples.clone() {
         s.rays.clear();
         s.paths.clear();
         s.diffs.clear();

@@ -13,6 +13,7 @@ pub mod camera;
 pub mod film;
 pub(crate) mod integrator;
 pub mod kernel;
+pub mod partial;
 pub mod sampler;
 pub mod stats;
 pub mod tiles;
@@ -165,7 +166,59 @@ pub fn render(
     settings: &RenderSettings,
     progress: Option<Progress<'_>>,
 ) -> Result<RenderOutput, RenderError> {
+    let inputs = RenderInputs {
+        scene,
+        lights: &scene.lights,
+        accel,
+        camera,
+        pool: None,
+    };
+    let (film, stats) = render_film(&inputs, settings, 0..settings.spp, progress)?;
+    let (image, aovs) = film.resolve();
+    Ok(RenderOutput { image, aovs, stats })
+}
+
+/// What a render reads besides its settings, for callers that share one scene across many
+/// renders ([`partial`], `glint batch`): the lights are passed apart from the scene so that
+/// jobs with different lights (default lights follow the camera) need no copy of the scene,
+/// and `pool` lets concurrent jobs share one pool instead of each starting its own.
+#[derive(Clone, Copy)]
+pub struct RenderInputs<'a> {
+    /// The scene's geometry, materials and textures (its `lights` are not read).
+    pub scene: &'a Scene,
+    /// The lights to render with.
+    pub lights: &'a [crate::scene::Light],
+    /// The scene's ray-query structure, from [`prepare`].
+    pub accel: &'a dyn Accel,
+    /// The camera.
+    pub camera: &'a Camera,
+    /// The pool to render on; `None` starts one of [`RenderSettings::threads`] threads.
+    pub pool: Option<&'a rayon::ThreadPool>,
+}
+
+/// Renders the samples with indices in `samples` (of `settings.spp`, whose strata and seed
+/// fix every sample's position) and returns the unresolved film: per-pixel sums over exactly
+/// those samples. `render` is this over `0..spp`, resolved.
+pub fn render_film(
+    inputs: &RenderInputs<'_>,
+    settings: &RenderSettings,
+    samples: std::ops::Range<u32>,
+    progress: Option<Progress<'_>>,
+) -> Result<(Film, RenderStats), RenderError> {
+    let RenderInputs {
+        scene,
+        lights,
+        accel,
+        camera,
+        pool,
+    } = *inputs;
     validate(settings)?;
+    if samples.start >= samples.end || samples.end > settings.spp {
+        return Err(RenderError::Settings(format!(
+            "sample range {}..{} must be non-empty and within 0..{} (the samples per pixel)",
+            samples.start, samples.end, settings.spp
+        )));
+    }
     if accel.triangle_count() != scene.triangle_count() {
         return Err(RenderError::AccelMismatch {
             accel: accel.triangle_count(),
@@ -194,9 +247,9 @@ pub fn render(
         camera: camera_rays,
         sampler: PixelSampler::new(settings.sampling, settings.spp, settings.seed),
         materials: ShadingMaterial::table(scene),
-        lights: LightSet::new(&scene.lights, settings.light_units)?,
+        lights: LightSet::new(lights, settings.light_units)?,
         typed_lights: flags.typed_lights,
-        spp: settings.spp,
+        samples: samples.clone(),
         max_depth: settings.max_depth,
         aovs: settings.aovs,
         mipmaps,
@@ -205,7 +258,14 @@ pub fn render(
         differential_spacing: 1.0 / (settings.spp as f32).sqrt(),
     };
     let render_tile = kernel::select(&flags);
-    let pool = thread_pool(settings.threads, accel.kind())?;
+    let own_pool;
+    let pool = match pool {
+        Some(shared) => shared,
+        None => {
+            own_pool = thread_pool(settings.threads, accel.kind())?;
+            &own_pool
+        }
+    };
 
     let tiles = tiles::tiles(settings.width, settings.height, tiles::TILE_SIZE);
     let done = AtomicUsize::new(0);
@@ -225,24 +285,27 @@ pub fn render(
     });
     let elapsed = start.elapsed();
 
-    let mut film = Film::new(settings.width, settings.height, settings.spp, settings.aovs);
+    let mut film = Film::new(
+        settings.width,
+        settings.height,
+        samples.len() as u32,
+        settings.aovs,
+    );
     let mut rays = RayCounts::default();
     for (tile, (sums, counts)) in tiles.iter().zip(&results) {
         film.add_tile(tile, sums);
         rays += *counts;
     }
-    let (image, aovs) = film.resolve();
-    Ok(RenderOutput {
-        image,
-        aovs,
-        stats: RenderStats {
+    Ok((
+        film,
+        RenderStats {
             elapsed,
             rays,
             features,
             kernel: flags,
             texture_bytes,
         },
-    })
+    ))
 }
 
 fn validate(s: &RenderSettings) -> Result<(), RenderError> {
