@@ -5,8 +5,13 @@
 //! (`embree4`, `embree3`), then the standard include and library paths. Debian ships no
 //! pkg-config file for Embree, so the standard paths are what finds it there.
 //!
-//! Overrides for unusual installs (e.g. a library taken from a Python wheel):
-//! `EMBREE_INCLUDE_DIR`, `EMBREE_LIB_DIR` and `EMBREE_LIB` (the library's link name).
+//! Overrides for unusual installs (e.g. a library taken from a Python wheel, see
+//! `scripts/check-embree4.sh`): `EMBREE_INCLUDE_DIR` (the folder holding `embree4/` or
+//! `embree3/`), `EMBREE_LIB_DIR`, and `EMBREE_LIB`: the library's link name (`embree4`) or its
+//! exact file name (`libembree4-4aef3270.so.4`, linked verbatim). A directory given explicitly
+//! that holds no Embree is an error, never a silent fall-back to another install.
+//!
+//! Every failure stops the build with one message (`cargo::error`) that names the fix.
 
 use std::env;
 use std::path::{Path, PathBuf};
@@ -19,10 +24,16 @@ struct Embree {
     lib_name: String,
 }
 
-const INSTALL_HINT: &str = "glint: Embree was not found.\n\
-  Install it:  sudo apt-get install libembree-dev   (Debian/Ubuntu; or run scripts/setup.sh)\n\
-  or point EMBREE_DIR at an Embree 3 or 4 install (a folder with include/ and lib/),\n\
-  or build the pure-Rust backend alone:  cargo build --no-default-features";
+/// Why no usable Embree was found; each line becomes one line of the build error.
+type Failure = Vec<String>;
+
+const NOT_FOUND: &[&str] = &[
+    "glint: Embree 3 or 4 was not found (no embree4/ or embree3/ headers with their library in \
+     EMBREE_DIR, pkg-config or the standard paths).",
+    "  Install it:  sudo apt-get install libembree-dev   (Debian/Ubuntu; scripts/setup.sh does it)",
+    "  or point EMBREE_DIR at an Embree 3 or 4 install (a folder with include/ and lib/),",
+    "  or build the pure-Rust backend alone:  cargo build --no-default-features",
+];
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
@@ -33,6 +44,7 @@ fn main() {
         "EMBREE_INCLUDE_DIR",
         "EMBREE_LIB_DIR",
         "EMBREE_LIB",
+        "PKG_CONFIG_PATH",
     ] {
         println!("cargo:rerun-if-env-changed={var}");
     }
@@ -40,20 +52,35 @@ fn main() {
         return;
     }
     let embree = match find_embree() {
-        Some(found) => found,
-        None => {
-            // One clear message and a failed build, not a wall of linker errors.
-            eprintln!("\n{INSTALL_HINT}\n");
-            println!("cargo:warning={}", INSTALL_HINT.replace('\n', " "));
-            std::process::exit(1);
-        }
+        Ok(found) => found,
+        Err(lines) => fail(&lines),
     };
+    // An upgraded or replaced Embree must rebuild the shim against the new headers.
+    println!(
+        "cargo:rerun-if-changed={}",
+        embree
+            .include_dir
+            .join(header_dir(embree.major))
+            .join("rtcore_config.h")
+            .display()
+    );
     println!(
         "cargo:rustc-env=GLINT_EMBREE_INCLUDE={}",
         embree.include_dir.display()
     );
     compile_shim(&embree);
     generate_bindings();
+}
+
+/// Stops the build with one error message, one `cargo::error` per line, instead of a wall of
+/// compiler or linker errors further on.
+fn fail(lines: &[String]) -> ! {
+    for line in lines {
+        println!("cargo::error={line}");
+    }
+    // Cargo fails the build because errors were logged; exiting 0 keeps it from adding the
+    // script's whole stdout and stderr to the message.
+    std::process::exit(0)
 }
 
 /// The header subfolder that marks an Embree of the given major version.
@@ -68,22 +95,47 @@ fn major_in(include_dir: &Path) -> Option<u32> {
         .find(|m| include_dir.join(header_dir(*m)).join("rtcore.h").is_file())
 }
 
-fn find_embree() -> Option<Embree> {
-    if let Some(found) = from_explicit_dirs() {
-        return Some(found);
+fn find_embree() -> Result<Embree, Failure> {
+    if let Some(found) = from_explicit_dirs()? {
+        return Ok(found);
     }
     if let Some(found) = from_pkg_config() {
-        return Some(found);
+        return Ok(found);
     }
-    from_standard_paths()
+    from_standard_paths().ok_or_else(|| NOT_FOUND.iter().map(|s| s.to_string()).collect())
 }
 
-fn from_explicit_dirs() -> Option<Embree> {
+/// Whether a library file name was given (`libembree4-xyz.so.4`) rather than a link name.
+fn is_file_name(lib: &str) -> bool {
+    lib.contains(".so") || lib.ends_with(".dylib")
+}
+
+/// `EMBREE_DIR` / `EMBREE_INCLUDE_DIR` / `EMBREE_LIB_DIR` / `EMBREE_LIB`. `Ok(None)` when none
+/// of the folders is set; an error when one is set but holds no Embree.
+fn from_explicit_dirs() -> Result<Option<Embree>, Failure> {
     let prefix = env::var_os("EMBREE_DIR").map(PathBuf::from);
-    let include_dir = env::var_os("EMBREE_INCLUDE_DIR")
-        .map(PathBuf::from)
-        .or_else(|| prefix.as_ref().map(|p| p.join("include")))?;
-    let major = major_in(&include_dir)?;
+    let (include_dir, include_var) = match env::var_os("EMBREE_INCLUDE_DIR") {
+        Some(dir) => (PathBuf::from(dir), "EMBREE_INCLUDE_DIR"),
+        None => match &prefix {
+            Some(p) => (p.join("include"), "EMBREE_DIR"),
+            None => return Ok(None),
+        },
+    };
+    let Some(major) = major_in(&include_dir) else {
+        return Err(vec![
+            format!(
+                "glint: {include_var} is set, but {} holds neither embree4/rtcore.h nor \
+                 embree3/rtcore.h.",
+                include_dir.display()
+            ),
+            format!(
+                "  Fix {include_var} (EMBREE_DIR is the install prefix, EMBREE_INCLUDE_DIR the \
+                 folder that contains embree4/), or unset it to use the system's Embree \
+                 (sudo apt-get install libembree-dev),"
+            ),
+            "  or build the pure-Rust backend alone:  cargo build --no-default-features".into(),
+        ]);
+    };
     let lib_dirs: Vec<PathBuf> = match env::var_os("EMBREE_LIB_DIR") {
         Some(dir) => vec![PathBuf::from(dir)],
         None => prefix
@@ -93,12 +145,41 @@ fn from_explicit_dirs() -> Option<Embree> {
             .collect(),
     };
     let lib_name = env::var("EMBREE_LIB").unwrap_or_else(|_| format!("embree{major}"));
-    Some(Embree {
+    // With no folder given the linker's default path is searched; with one, check it here so
+    // a wrong folder is reported by name rather than as an `ld` error.
+    if !lib_dirs.is_empty() {
+        let candidates: Vec<String> = if is_file_name(&lib_name) {
+            vec![lib_name.clone()]
+        } else {
+            ["so", "dylib", "a"]
+                .iter()
+                .map(|ext| format!("lib{lib_name}.{ext}"))
+                .collect()
+        };
+        let found = lib_dirs
+            .iter()
+            .any(|d| candidates.iter().any(|c| d.join(c).exists()));
+        if !found {
+            let dirs: Vec<String> = lib_dirs.iter().map(|d| d.display().to_string()).collect();
+            return Err(vec![
+                format!(
+                    "glint: Embree {major} headers are in {}, but {} is not in {}.",
+                    include_dir.display(),
+                    candidates.join(" / "),
+                    dirs.join(", ")
+                ),
+                "  Set EMBREE_LIB_DIR to the folder holding the library, and EMBREE_LIB to its \
+                 link name (embree4) or exact file name (libembree4-xyz.so.4)."
+                    .into(),
+            ]);
+        }
+    }
+    Ok(Some(Embree {
         major,
         include_dir,
         lib_dirs,
         lib_name,
-    })
+    }))
 }
 
 fn from_pkg_config() -> Option<Embree> {
@@ -138,7 +219,11 @@ fn from_standard_paths() -> Option<Embree> {
         Some("aarch64") => "aarch64-linux-gnu",
         _ => "",
     };
-    let include_roots = ["/usr/include", "/usr/local/include", "/opt/homebrew/include"];
+    let include_roots = [
+        "/usr/include",
+        "/usr/local/include",
+        "/opt/homebrew/include",
+    ];
     let lib_roots: Vec<PathBuf> = [
         format!("/usr/lib/{multiarch}"),
         "/usr/lib".into(),
@@ -177,16 +262,22 @@ fn from_standard_paths() -> Option<Embree> {
 }
 
 fn compile_shim(embree: &Embree) {
-    cc::Build::new()
+    let mut build = cc::Build::new();
+    build
         .file("ffi/shim.c")
         .include("ffi")
-        .include(&embree.include_dir)
         .define("GLINT_EMBREE_MAJOR", embree.major.to_string().as_str())
         .flag_if_supported("-std=c11")
         .warnings(true)
         .extra_warnings(true)
-        .opt_level(3)
-        .compile("glint_shim");
+        .opt_level(3);
+    // Embree's headers are a system library's: their own warnings are not ours to fix.
+    if build.get_compiler().is_like_msvc() {
+        build.include(&embree.include_dir);
+    } else {
+        build.flag("-isystem").flag(embree.include_dir.as_os_str());
+    }
+    build.compile("glint_shim");
     for dir in &embree.lib_dirs {
         println!("cargo:rustc-link-search=native={}", dir.display());
         // Libraries outside the loader's default path (EMBREE_DIR, a wheel) must still be found
@@ -195,12 +286,19 @@ fn compile_shim(embree: &Embree) {
             println!("cargo:rustc-link-arg=-Wl,-rpath,{}", dir.display());
         }
     }
-    println!("cargo:rustc-link-lib=dylib={}", embree.lib_name);
+    if is_file_name(&embree.lib_name) {
+        // A file name that does not follow lib<name>.so (a wheel's hashed libembree4-*.so.4).
+        println!("cargo:rustc-link-lib=dylib:+verbatim={}", embree.lib_name);
+    } else {
+        println!("cargo:rustc-link-lib=dylib={}", embree.lib_name);
+    }
     println!("cargo:rustc-env=GLINT_EMBREE_MAJOR={}", embree.major);
 }
 
 fn generate_bindings() {
-    let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let Some(out) = env::var_os("OUT_DIR").map(PathBuf::from) else {
+        fail(&["glint: OUT_DIR is not set; build.rs must be run by cargo.".into()]);
+    };
     let bindings = bindgen::Builder::default()
         .header("ffi/shim.h")
         .allowlist_function("glint_.*")
@@ -210,14 +308,18 @@ fn generate_bindings() {
         .derive_default(true)
         .derive_copy(true)
         .layout_tests(true)
-        .generate()
-        .unwrap_or_else(|e| {
-            eprintln!(
-                "glint: bindgen could not read ffi/shim.h ({e}).\n  bindgen needs libclang: sudo apt-get install libclang-dev   (or run scripts/setup.sh)"
-            );
-            std::process::exit(1);
-        });
-    bindings
-        .write_to_file(out.join("shim_bindings.rs"))
-        .expect("OUT_DIR is writable");
+        .generate();
+    let bindings = match bindings {
+        Ok(b) => b,
+        Err(e) => fail(&[
+            format!("glint: bindgen could not read ffi/shim.h ({e})."),
+            "  bindgen needs libclang: sudo apt-get install libclang-dev   (or run \
+             scripts/setup.sh)"
+                .into(),
+        ]),
+    };
+    let path = out.join("shim_bindings.rs");
+    if let Err(e) = bindings.write_to_file(&path) {
+        fail(&[format!("glint: could not write {}: {e}", path.display())]);
+    }
 }

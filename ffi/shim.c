@@ -7,9 +7,20 @@
  *     RTCIntersectArguments / RTCOccludedArguments after it. Both init helpers are inline.
  *   - Embree 4 enables ray masking by default (a ray mask of 0 misses everything): every ray
  *     here carries mask 0xFFFFFFFF and geometries keep their default mask.
- *   - Hit structs grow with RTC_MAX_INSTANCE_LEVEL_COUNT and, from 4.3, instPrimID. Rays and
- *     hits live on this file's stack inside padded unions, so a library built with more
- *     instance levels than the headers we compiled against still writes into our memory.
+ *   - Hit structs grow with RTC_MAX_INSTANCE_LEVEL_COUNT and, from 4.3, instPrimID (when the
+ *     library has RTC_GEOMETRY_INSTANCE_ARRAY). Rays and hits live on this file's stack inside
+ *     padded unions, so a library configured with more of them than the headers we compiled
+ *     against (e.g. 4.2 headers, 4.4 library) writes into our memory, never past it.
+ *   - Embree 4's argument structs end with fields that only some library configurations have
+ *     (RTC_MIN_WIDTH's minWidthDistanceFactor): they too sit in zeroed padded unions, so such a
+ *     library reads the field's default (0) rather than stack garbage. Embree 3's intersect
+ *     context has no such tail; its headers and library always come from one install.
+ *
+ * Errors: Embree reports an error on the thread whose API call failed, through the device's
+ * callback, and also keeps a per-thread sticky code (rtcGetDeviceError) until it is read. The
+ * shim keeps the callback's first error per thread as well, so concurrent builds on one shared
+ * device never see each other's errors, and it reads Embree's sticky code whenever it takes an
+ * error, so a failure never leaks into the next build on the same thread.
  */
 #include "shim.h"
 
@@ -33,22 +44,32 @@
 #define GLINT_X86 1
 #endif
 
-/* Room for hit fields a differently configured library may write past our headers' struct. */
+/* Room, per ray, for hit fields a differently configured library writes past our headers' hit
+ * struct: instID and instPrimID for up to 64 instance levels (8 bytes a level). */
 #define GLINT_HIT_SLACK 512
+/* Room for argument fields a differently configured library reads past our headers' struct. */
+#define GLINT_ARGS_SLACK 64
 
 struct glint_device {
     RTCDevice device;
-    int error_code;
-    char error_message[512];
 };
 
 struct glint_scene {
     RTCScene scene;
-    glint_device *device;
+    /* The Embree device itself, retained: glint_device may be freed before its scenes. */
+    RTCDevice device;
 };
+
+/* The first error Embree raised on this thread since the shim last took it. */
+typedef struct error_slot {
+    const glint_device *device; /* the device whose callback reported it */
+    int code;                   /* an RTCError; 0 when the slot is empty */
+    char message[512];
+} error_slot;
 
 static _Atomic int64_t live_handles = 0;
 static _Thread_local char creation_error[256];
+static _Thread_local error_slot thread_error;
 
 int glint_embree_major(void) { return GLINT_EMBREE_MAJOR; }
 
@@ -63,13 +84,15 @@ void glint_set_denormal_modes(void) {
 #endif
 }
 
+/* Embree calls this on the thread whose API call failed; user is the glint_device, used only
+ * as a tag. */
 static void on_error(void *user, enum RTCError code, const char *message) {
-    glint_device *d = (glint_device *)user;
-    if (d == NULL || d->error_code != 0) {
+    if (code == RTC_ERROR_NONE || thread_error.code != 0) {
         return; /* keep the first error: later ones are usually its consequences */
     }
-    d->error_code = (int)code;
-    snprintf(d->error_message, sizeof d->error_message, "%s", message ? message : "");
+    thread_error.device = (const glint_device *)user;
+    thread_error.code = (int)code;
+    snprintf(thread_error.message, sizeof thread_error.message, "%s", message ? message : "");
 }
 
 glint_device *glint_device_new(const char *config) {
@@ -96,8 +119,8 @@ void glint_device_free(glint_device *d) {
     if (d == NULL) {
         return;
     }
-    /* Scenes still alive hold their own RTCDevice reference; the callback's user pointer is
-     * cleared so a late error cannot write into freed memory. */
+    /* Scenes still alive hold their own RTCDevice reference; the callback is removed so a late
+     * error is never tagged with this freed handle. */
     rtcSetDeviceErrorFunction(d->device, NULL, NULL);
     rtcReleaseDevice(d->device);
     free(d);
@@ -105,12 +128,24 @@ void glint_device_free(glint_device *d) {
 }
 
 int glint_device_take_error(glint_device *d, char *buf, size_t len) {
-    int code = d->error_code;
-    if (buf != NULL && len > 0) {
-        snprintf(buf, len, "%s", code != 0 ? d->error_message : "");
+    /* Reading Embree's sticky per-thread code clears it; it is the same error the callback saw
+     * (or, with no callback match, one nobody asked for), so it is dropped either way. */
+    int sticky = (int)rtcGetDeviceError(d->device);
+    int code = thread_error.device == d ? thread_error.code : 0;
+    if (code == 0) {
+        code = sticky; /* an error raised without the callback installed */
     }
-    d->error_code = 0;
-    d->error_message[0] = '\0';
+    if (buf != NULL && len > 0) {
+        snprintf(buf, len, "%s",
+                 thread_error.device == d ? thread_error.message
+                 : code != 0              ? "(no message: another device's error was pending)"
+                                          : "");
+    }
+    if (thread_error.device == d) {
+        thread_error.device = NULL;
+        thread_error.code = 0;
+        thread_error.message[0] = '\0';
+    }
     return code;
 }
 
@@ -124,7 +159,8 @@ glint_scene *glint_scene_new(glint_device *d, glint_build_quality quality, int r
         free(s);
         return NULL;
     }
-    s->device = d;
+    rtcRetainDevice(d->device);
+    s->device = d->device;
     enum RTCBuildQuality q = quality == GLINT_BUILD_LOW    ? RTC_BUILD_QUALITY_LOW
                              : quality == GLINT_BUILD_HIGH ? RTC_BUILD_QUALITY_HIGH
                                                            : RTC_BUILD_QUALITY_MEDIUM;
@@ -136,7 +172,7 @@ glint_scene *glint_scene_new(glint_device *d, glint_build_quality quality, int r
 
 int64_t glint_scene_add_triangles(glint_scene *s, const float *positions, size_t vertex_count,
                                   const uint32_t *indices, size_t triangle_count) {
-    RTCGeometry g = rtcNewGeometry(s->device->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     if (g == NULL) {
         return -1;
     }
@@ -146,12 +182,20 @@ int64_t glint_scene_add_triangles(glint_scene *s, const float *positions, size_t
     uint32_t *t = (uint32_t *)rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
                                                       RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
                                                       triangle_count);
+    /* Embree returns NULL for a buffer of zero items without raising an error; a mesh with no
+     * triangles is valid and still takes a geometry id, so ids stay equal to mesh indices. */
+    int buffers_ok = (v != NULL || vertex_count == 0) && (t != NULL || triangle_count == 0);
     int64_t id = -1;
-    if (v != NULL && t != NULL) {
-        memcpy(v, positions, vertex_count * 3 * sizeof(float));
-        memcpy(t, indices, triangle_count * 3 * sizeof(uint32_t));
+    if (buffers_ok) {
+        if (vertex_count > 0) {
+            memcpy(v, positions, vertex_count * 3 * sizeof(float));
+        }
+        if (triangle_count > 0) {
+            memcpy(t, indices, triangle_count * 3 * sizeof(uint32_t));
+        }
         rtcCommitGeometry(g);
-        id = (int64_t)rtcAttachGeometry(s->scene, g);
+        unsigned attached = rtcAttachGeometry(s->scene, g);
+        id = attached == RTC_INVALID_GEOMETRY_ID ? -1 : (int64_t)attached;
     }
     /* The scene holds its own reference once attached. */
     rtcReleaseGeometry(g);
@@ -160,8 +204,11 @@ int64_t glint_scene_add_triangles(glint_scene *s, const float *positions, size_t
 }
 
 int glint_scene_commit(glint_scene *s) {
+    /* Embree's per-thread error code is sticky until read: clear whatever an earlier call left
+     * so the code read below is this commit's own. */
+    (void)rtcGetDeviceError(s->device);
     rtcCommitScene(s->scene);
-    return (int)rtcGetDeviceError(s->device->device);
+    return (int)rtcGetDeviceError(s->device);
 }
 
 void glint_scene_free(glint_scene *s) {
@@ -169,6 +216,7 @@ void glint_scene_free(glint_scene *s) {
         return;
     }
     rtcReleaseScene(s->scene);
+    rtcReleaseDevice(s->device);
     free(s);
     atomic_fetch_sub(&live_handles, 1);
 }
@@ -205,25 +253,34 @@ static void load_ray(struct RTCRay *r, const glint_ray *in) {
     r->flags = 0;
 }
 
+/* GLINT_QUERY_ARGS declares `name`, a pointer to the per-call query arguments (Embree 4) or
+ * intersect context (Embree 3) with the coherence hint set; the GLINT_* calls pass it in the
+ * version's argument order. */
 #if GLINT_EMBREE_MAJOR == 4
 #define GLINT_QUERY_ARGS(name, kind, coherent)                                                   \
-    struct RTC##kind##Arguments name;                                                            \
-    rtcInit##kind##Arguments(&name);                                                             \
-    name.flags = (coherent) ? RTC_RAY_QUERY_FLAG_COHERENT : RTC_RAY_QUERY_FLAG_INCOHERENT
-#define GLINT_INTERSECT1(scene, rh, args) rtcIntersect1((scene), (rh), &(args))
-#define GLINT_OCCLUDED1(scene, r, args) rtcOccluded1((scene), (r), &(args))
-#define GLINT_INTERSECT8(valid, scene, rh, args) rtcIntersect8((valid), (scene), (rh), &(args))
-#define GLINT_OCCLUDED8(valid, scene, r, args) rtcOccluded8((valid), (scene), (r), &(args))
+    union {                                                                                      \
+        struct RTC##kind##Arguments args;                                                        \
+        char slack[sizeof(struct RTC##kind##Arguments) + GLINT_ARGS_SLACK];                      \
+    } name##_storage;                                                                            \
+    memset(&name##_storage, 0, sizeof name##_storage);                                           \
+    struct RTC##kind##Arguments *name = &name##_storage.args;                                    \
+    rtcInit##kind##Arguments(name);                                                              \
+    name->flags = (coherent) ? RTC_RAY_QUERY_FLAG_COHERENT : RTC_RAY_QUERY_FLAG_INCOHERENT
+#define GLINT_INTERSECT1(scene, rh, args) rtcIntersect1((scene), (rh), (args))
+#define GLINT_OCCLUDED1(scene, r, args) rtcOccluded1((scene), (r), (args))
+#define GLINT_INTERSECT8(valid, scene, rh, args) rtcIntersect8((valid), (scene), (rh), (args))
+#define GLINT_OCCLUDED8(valid, scene, r, args) rtcOccluded8((valid), (scene), (r), (args))
 #else
 #define GLINT_QUERY_ARGS(name, kind, coherent)                                                   \
-    struct RTCIntersectContext name;                                                             \
-    rtcInitIntersectContext(&name);                                                              \
-    name.flags = (coherent) ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT                                \
-                            : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
-#define GLINT_INTERSECT1(scene, rh, args) rtcIntersect1((scene), &(args), (rh))
-#define GLINT_OCCLUDED1(scene, r, args) rtcOccluded1((scene), &(args), (r))
-#define GLINT_INTERSECT8(valid, scene, rh, args) rtcIntersect8((valid), (scene), &(args), (rh))
-#define GLINT_OCCLUDED8(valid, scene, r, args) rtcOccluded8((valid), (scene), &(args), (r))
+    struct RTCIntersectContext name##_storage;                                                   \
+    struct RTCIntersectContext *name = &name##_storage;                                          \
+    rtcInitIntersectContext(name);                                                               \
+    name->flags = (coherent) ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT                               \
+                             : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
+#define GLINT_INTERSECT1(scene, rh, args) rtcIntersect1((scene), (args), (rh))
+#define GLINT_OCCLUDED1(scene, r, args) rtcOccluded1((scene), (args), (r))
+#define GLINT_INTERSECT8(valid, scene, rh, args) rtcIntersect8((valid), (scene), (args), (rh))
+#define GLINT_OCCLUDED8(valid, scene, r, args) rtcOccluded8((valid), (scene), (args), (r))
 #endif
 
 void glint_intersect1(const glint_scene *s, const glint_ray *rays, glint_hit *hits, size_t n,
@@ -232,8 +289,10 @@ void glint_intersect1(const glint_scene *s, const glint_ray *rays, glint_hit *hi
     padded_rayhit p;
     for (size_t i = 0; i < n; ++i) {
         load_ray(&p.rh.ray, &rays[i]);
+        /* Embree requires geomID and instID[0] invalid on entry. */
         p.rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         p.rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        p.rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         GLINT_INTERSECT1(s->scene, &p.rh, args);
         glint_hit *h = &hits[i];
         h->geom_id = p.rh.hit.geomID;
@@ -292,6 +351,7 @@ void glint_intersect8(const glint_scene *s, const glint_ray *rays, glint_hit *hi
         for (size_t k = 0; k < 8; ++k) {
             p.rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
             p.rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+            p.rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
         }
         GLINT_INTERSECT8(valid, s->scene, &p.rh, args);
         for (size_t k = 0; k < count; ++k) {

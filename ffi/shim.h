@@ -74,12 +74,17 @@ glint_device *glint_device_new(const char *config);
 /** The message of the last failed glint_device_new on this thread (static storage). */
 const char *glint_last_creation_error(void);
 
-/** Releases a device. Scenes keep their own reference, so order does not matter. */
+/**
+ * Releases a device. Scenes keep their own reference to the Embree device, so order does not
+ * matter; errors those scenes raise later are no longer recorded (commit still returns its code).
+ */
 void glint_device_free(glint_device *device);
 
 /**
- * Takes the first error Embree reported on this device since the last call (0 if none), copies
- * its message into buf (NUL-terminated, truncated to len) and clears it.
+ * Takes the first error Embree reported on this device to the calling thread since the last
+ * call (0 if none), copies its message into buf (NUL-terminated, truncated to len) and clears
+ * it, together with Embree's own sticky per-thread error code. Errors are kept per thread, as
+ * Embree raises them, so threads building scenes at once never take each other's errors.
  */
 int glint_device_take_error(glint_device *device, char *buf, size_t len);
 
@@ -88,13 +93,17 @@ glint_scene *glint_scene_new(glint_device *device, glint_build_quality quality, 
 
 /**
  * Adds a triangle mesh, copying its data into Embree-owned buffers.
- * positions: vertex_count * 3 floats; indices: triangle_count * 3 indices.
- * Returns the geometry id, or -1 on error (the device's error holds why).
+ * positions: vertex_count * 3 floats; indices: triangle_count * 3 indices. Either count may be
+ * 0 (the mesh still takes the next geometry id). Returns the geometry id, or -1 on error (the
+ * device's error holds why).
  */
 int64_t glint_scene_add_triangles(glint_scene *scene, const float *positions, size_t vertex_count,
                                   const uint32_t *indices, size_t triangle_count);
 
-/** Builds the acceleration structure. Returns 0 on success, an RTCError code otherwise. */
+/**
+ * Builds the acceleration structure. Returns 0 on success, otherwise the RTCError code the commit
+ * itself raised (never one left over from an earlier call).
+ */
 int glint_scene_commit(glint_scene *scene);
 
 /** Releases a scene and its geometries. */

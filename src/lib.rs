@@ -7,7 +7,14 @@
 
 #[allow(unsafe_code)]
 pub mod accel;
+pub mod batch;
 pub mod bench;
-pub mod procedural;
-pub mod scene;
 pub mod cli;
+pub mod geometry;
+pub mod light;
+pub mod material;
+pub mod output;
+pub mod procedural;
+pub mod render;
+pub mod scene;
+pub mod texture;

@@ -18,6 +18,10 @@ enum Command {
     /// Measure ray throughput and build times.
     #[command(subcommand)]
     Bench(glint::cli::bench::BenchCommand),
+    /// Render the jobs of a TOML job file, resumably, optionally one shard of them.
+    Batch(glint::cli::batch::BatchArgs),
+    /// Merge partial EXRs (render --sample-range/--shard) into one image.
+    Merge(glint::cli::merge::MergeArgs),
 }
 
 fn main() -> ExitCode {
@@ -25,6 +29,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => glint::cli::render::run(args),
         Command::Bench(cmd) => glint::cli::bench::run(cmd),
+        Command::Batch(args) => glint::cli::batch::run(args),
+        Command::Merge(args) => glint::cli::merge::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

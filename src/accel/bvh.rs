@@ -78,7 +78,25 @@ impl BvhAccel {
         }
     }
 
-    fn obvhs_ray(ray: &Ray) -> obvhs::ray::Ray {
+    /// The ray obvhs traverses with. Two quirks of obvhs's traversal are corrected here:
+    /// - Its node test clamps each child's entry distance to at least [`OBVHS_NODE_T_FLOOR`]
+    ///   and ignores the ray's tmin, culling every node nearer than that (in parameter units,
+    ///   whatever the scene's scale). The traversal ray therefore starts [`TRAVERSAL_SHIFT`]
+    ///   behind the caller's origin, so that every hit lies beyond the floor; triangles are
+    ///   still tested exactly against the caller's ray.
+    /// - Its ray octant treats −0.0 as positive while the inverse direction is negative, which
+    ///   misses everything; −0.0 components become +0.0 (adding +0.0 does exactly that).
+    fn traversal_ray(ray: &Ray) -> obvhs::ray::Ray {
+        let dir = Vec3A::from(ray.dir) + Vec3A::ZERO;
+        obvhs::ray::Ray::new(
+            Vec3A::from(ray.origin) - dir * TRAVERSAL_SHIFT,
+            dir,
+            ray.tnear + TRAVERSAL_SHIFT,
+            (ray.tfar + TRAVERSAL_SHIFT).next_up(),
+        )
+    }
+
+    fn exact_ray(ray: &Ray) -> obvhs::ray::Ray {
         obvhs::ray::Ray::new(
             Vec3A::from(ray.origin),
             Vec3A::from(ray.dir),
@@ -88,10 +106,17 @@ impl BvhAccel {
     }
 }
 
+/// obvhs's internal lower bound on a node's entry distance (`cwbvh::node::EPSILON`).
+const OBVHS_NODE_T_FLOOR: f32 = 1e-4;
+/// How far (in ray-parameter units) the traversal ray starts behind the caller's origin: twice
+/// the floor, so that no hit at t ≥ 0 falls under it.
+const TRAVERSAL_SHIFT: f32 = 2.0 * OBVHS_NODE_T_FLOOR;
+
 /// Möller–Trumbore as Embree computes it, scaled by the determinant to defer the division.
-/// Returns `(t, u, v)` with `tnear < t <= tfar`, or `None`.
+/// Returns `(t, u, v)` with `tnear < t <= tfar` (Embree's interval rule), or `None`.
 #[inline(always)]
 fn intersect_triangle(tri: &Triangle, ray: &obvhs::ray::Ray) -> Option<(f32, f32, f32)> {
+    let (tnear, tfar) = (ray.tmin, ray.tmax);
     let e1 = tri.v0 - tri.v1;
     let e2 = tri.v2 - tri.v0;
     let ng = e2.cross(e1);
@@ -106,7 +131,7 @@ fn intersect_triangle(tri: &Triangle, ray: &obvhs::ray::Ray) -> Option<(f32, f32
         return None;
     }
     let t_scaled = ng.dot(c) * sign;
-    if !(abs_den * ray.tmin < t_scaled && t_scaled <= abs_den * ray.tmax) {
+    if !(abs_den * tnear < t_scaled && t_scaled <= abs_den * tfar) {
         return None;
     }
     let inv = 1.0 / abs_den;
@@ -122,18 +147,27 @@ impl Accel for BvhAccel {
         if self.triangles.is_empty() {
             return None;
         }
-        let oray = Self::obvhs_ray(ray);
-        let mut hit = RayHit::none();
-        let found = self.bvh.ray_traverse(oray, &mut hit, |r, id| {
-            intersect_triangle(&self.triangles[id], r).map_or(f32::INFINITY, |(t, _, _)| t)
-        });
-        if !found {
-            return None;
-        }
-        let index = hit.primitive_id as usize;
+        let exact = Self::exact_ray(ray);
+        // The closest hit is tracked here, exactly; obvhs gets the shifted distance only to
+        // prune nodes beyond it (rounding t + shift is monotonic, so no closer node is pruned).
+        let mut best: Option<(usize, f32, f32, f32)> = None;
+        let mut best_t = ray.tfar;
+        let mut ignored = RayHit::none();
+        self.bvh
+            .ray_traverse(
+                Self::traversal_ray(ray),
+                &mut ignored,
+                |_, id| match intersect_triangle(&self.triangles[id], &exact) {
+                    Some((t, u, v)) if best.is_none() || t < best_t => {
+                        best = Some((id, t, u, v));
+                        best_t = t;
+                        t + TRAVERSAL_SHIFT
+                    }
+                    _ => f32::INFINITY,
+                },
+            );
+        let (index, t, u, v) = best?;
         let tri = &self.triangles[index];
-        // Recompute u, v for the winner only; the traversal needs t alone.
-        let (t, u, v) = intersect_triangle(tri, &oray)?;
         let [geom_id, prim_id] = self.ids[index];
         Some(Hit {
             t,
@@ -149,10 +183,16 @@ impl Accel for BvhAccel {
         if self.triangles.is_empty() {
             return false;
         }
-        let oray = Self::obvhs_ray(ray);
-        !self.bvh.ray_traverse_miss(oray, |r, id| {
-            intersect_triangle(&self.triangles[id], r).map_or(f32::INFINITY, |(t, _, _)| t)
-        })
+        let exact = Self::exact_ray(ray);
+        // Any hit ends the traversal: report it as -∞ so that obvhs's `t < tmax` accepts it.
+        !self
+            .bvh
+            .ray_traverse_miss(Self::traversal_ray(ray), |_, id| {
+                match intersect_triangle(&self.triangles[id], &exact) {
+                    Some(_) => f32::NEG_INFINITY,
+                    None => f32::INFINITY,
+                }
+            })
     }
 
     fn triangle_count(&self) -> usize {

@@ -115,7 +115,9 @@ impl Drop for Device {
 fn shared_device() -> Result<Arc<Device>, AccelError> {
     use std::sync::Mutex;
     static DEVICE: Mutex<Option<Arc<Device>>> = Mutex::new(None);
-    let mut slot = DEVICE.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let mut slot = DEVICE
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
     if let Some(device) = slot.as_ref() {
         return Ok(Arc::clone(device));
     }

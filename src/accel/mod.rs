@@ -133,7 +133,9 @@ impl FromStr for BackendKind {
         match s {
             "embree" => Ok(BackendKind::Embree),
             "bvh" | "obvhs" => Ok(BackendKind::Bvh),
-            other => Err(format!("unknown backend '{other}' (expected embree or bvh)")),
+            other => Err(format!(
+                "unknown backend '{other}' (expected embree or bvh)"
+            )),
         }
     }
 }
@@ -152,7 +154,8 @@ pub enum BuildQuality {
 
 impl BuildQuality {
     /// All qualities, fastest build first.
-    pub const ALL: [BuildQuality; 3] = [BuildQuality::Low, BuildQuality::Medium, BuildQuality::High];
+    pub const ALL: [BuildQuality; 3] =
+        [BuildQuality::Low, BuildQuality::Medium, BuildQuality::High];
 
     /// Lower-case name.
     pub fn name(self) -> &'static str {

@@ -1,7 +1,10 @@
 //! The subcommands of the `glint` binary, each in its own module with its clap arguments.
 //! They live in the library so that tests can drive them without spawning processes.
 
+pub mod batch;
 pub mod bench;
+pub mod bench_render;
+pub mod merge;
 pub mod render;
 
 /// An error a subcommand reports to the user: one line, already carrying its context.

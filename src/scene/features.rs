@@ -15,7 +15,7 @@ pub struct SceneFeatures {
     pub directional_lights: bool,
     /// At least one light with a finite range.
     pub light_ranges: bool,
-    /// At least one material with a base colour or emissive texture.
+    /// At least one material with a base colour or emissive texture, or a procedural one.
     pub textures: bool,
     /// At least one material with a mirror lobe.
     pub mirrors: bool,
@@ -58,6 +58,7 @@ impl SceneFeatures {
         for (material, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
             f.textures |=
                 material.base_color_texture.is_some() || material.emissive_texture.is_some();
+            f.textures |= material.procedural.is_some();
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
             f.single_sided |= !material.double_sided;

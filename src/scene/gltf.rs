@@ -1,35 +1,189 @@
 //! Loading glTF 2.0 (`.gltf` and `.glb`) into a [`Scene`](super::Scene).
+//!
+//! # Supported
+//! - `.gltf` with external files or base64 data URIs, and `.glb` (binary chunk); URIs are
+//!   relative paths (percent-escapes decoded) or data URIs.
+//! - The default scene (else scene 0; a file without scenes renders its root nodes). The node
+//!   hierarchy is flattened: matrix or translation · rotation · scale composed down the tree;
+//!   one [`Mesh`](super::Mesh) per (node, primitive), named `node "X" / mesh 3 / primitive 0`.
+//!   Positions go through the world matrix, normals through its inverse transpose
+//!   (renormalised), tangents through its linear part; a mirroring node (negative
+//!   determinant) has its triangles' winding flipped so that front faces stay
+//!   counter-clockwise, and its tangents' handedness flipped.
+//! - Modes TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN (strips and fans become triangles as
+//!   the glTF spec defines them), indexed or not.
+//! - Attributes POSITION, NORMAL, TANGENT, TEXCOORD_0, TEXCOORD_1 (float or normalized
+//!   integers), COLOR_0 (RGB or RGBA, float or normalized integers; linear). Sparse
+//!   accessors.
+//! - Materials: baseColorFactor and baseColorTexture, metallicFactor, roughnessFactor,
+//!   emissiveFactor × KHR_materials_emissive_strength, emissiveTexture, doubleSided, name;
+//!   KHR_texture_transform on either texture (with its texCoord override). A primitive
+//!   without a material gets glTF's default (white, metallic 1, roughness 1, single-sided).
+//! - Textures: PNG and JPEG from files, data URIs or buffer views; base colour and emissive
+//!   decoded from sRGB to linear with the exact sRGB curve; sampler wrap modes and the
+//!   magnification filter.
+//! - Cameras (perspective and orthographic) of every camera node, in node order, with the
+//!   node's scale removed.
+//! - KHR_lights_punctual point, spot and directional lights, in radiometric units (see
+//!   [`Light`](super::Light)): glTF's `intensity × color` is carried as is, no 683 lm/W.
+//!
+//! # Ignored
+//! - Skins, morph targets and animations (meshes load in their bind / rest pose).
+//! - metallicRoughnessTexture, normalTexture, occlusionTexture, alphaMode / alphaCutoff,
+//!   texture minification filters, the camera's znear / zfar.
+//! - KHR_materials_* extensions other than emissive_strength, and every other extension:
+//!   a file that lists one as *required* is refused; one that merely uses it loads with a
+//!   warning.
+//! - POINTS, LINES, LINE_LOOP and LINE_STRIP primitives: skipped with a warning (one line
+//!   primitive should not make a whole scene unloadable).
+//! - TEXCOORD_2 and above, COLOR_1 and above.
+//!
+//! # Errors
+//! Every bad input is a [`LoadError`] naming the file and the thing in it, never a panic: a
+//! missing, truncated or invalid file, a missing `.bin` or image file, an accessor reference
+//! or byte range out of bounds, indices past the vertex count, NaN or infinite positions, an
+//! unsupported required extension, an image that does not decode.
 
-use super::Scene;
-use std::path::{Path, PathBuf};
+mod accessors;
+mod error;
+mod materials;
+mod nodes;
+mod objects;
+mod primitives;
+mod procedural;
+mod source;
 
-/// Why a scene could not be loaded. Every variant names the file and the thing in it.
-#[derive(Debug, thiserror::Error)]
-pub enum LoadError {
-    /// Catch-all while the loader is being written.
-    #[error("{path}: {message}")]
-    Invalid {
-        /// The scene file.
-        path: PathBuf,
-        /// What is wrong, naming the node / mesh / accessor.
-        message: String,
-    },
+pub use error::LoadError;
+pub use materials::uv_transform;
+pub use primitives::{assemble_triangles, normal_transform};
+pub use source::SUPPORTED_EXTENSIONS;
+
+use super::{Material, Scene};
+use source::Origin;
+use std::path::Path;
+
+/// A loaded scene and the warnings the loader gave (skipped primitives, ignored extensions).
+#[derive(Debug)]
+pub struct Loaded {
+    /// The scene.
+    pub scene: Scene,
+    /// One line each, already naming the file; for stderr.
+    pub warnings: Vec<String>,
 }
 
 /// Loads a `.gltf` or `.glb` file, resolving external buffers and images next to it.
+/// Warnings go to stderr; use [`load_with_warnings`] to handle them yourself.
 pub fn load(path: &Path) -> Result<Scene, LoadError> {
-    Err(LoadError::Invalid {
-        path: path.to_path_buf(),
-        message: "glTF loading is not implemented yet".into(),
-    })
+    load_with_warnings(path).map(print_warnings)
 }
 
 /// Loads a glTF or GLB held in memory (the embedded demo scene); `label` names it in errors and
 /// `base_dir` resolves relative URIs (None: only embedded data is allowed).
+/// Warnings go to stderr; use [`load_slice_with_warnings`] to handle them yourself.
 pub fn load_slice(bytes: &[u8], label: &str, base_dir: Option<&Path>) -> Result<Scene, LoadError> {
-    let _ = (bytes, base_dir);
-    Err(LoadError::Invalid {
-        path: PathBuf::from(label),
-        message: "glTF loading is not implemented yet".into(),
-    })
+    load_slice_with_warnings(bytes, label, base_dir).map(print_warnings)
+}
+
+/// Like [`load`], returning the warnings instead of printing them.
+pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
+    let bytes = std::fs::read(path).map_err(|source| LoadError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let base_dir = path.parent().unwrap_or(Path::new("."));
+    load_bytes(
+        &bytes,
+        Origin {
+            file: path,
+            base_dir: Some(base_dir),
+        },
+    )
+}
+
+/// Like [`load_slice`], returning the warnings instead of printing them.
+pub fn load_slice_with_warnings(
+    bytes: &[u8],
+    label: &str,
+    base_dir: Option<&Path>,
+) -> Result<Loaded, LoadError> {
+    load_bytes(
+        bytes,
+        Origin {
+            file: Path::new(label),
+            base_dir,
+        },
+    )
+}
+
+fn print_warnings(loaded: Loaded) -> Scene {
+    for warning in &loaded.warnings {
+        eprintln!("glint: warning: {warning}");
+    }
+    loaded.scene
+}
+
+fn load_bytes(bytes: &[u8], origin: Origin<'_>) -> Result<Loaded, LoadError> {
+    let mut warnings = Vec::new();
+    let source = source::parse(bytes, origin, &mut warnings)?;
+    let document = &source.document;
+    let materials::Materials {
+        mut materials,
+        textures,
+    } = materials::load(document, &source.buffers, origin, &mut warnings)?;
+    // glTF's default material goes last, added only if some primitive needs it.
+    let default_material = materials.len();
+    let mut uses_default = false;
+
+    let placed = nodes::flatten(document, origin, &mut warnings)?;
+    let mut scene = Scene {
+        textures,
+        ..Scene::default()
+    };
+    for node in &placed {
+        if let Some(mesh) = node.node.mesh() {
+            for primitive in mesh.primitives() {
+                let material = match primitive.material().index() {
+                    Some(index) => index,
+                    None => {
+                        uses_default = true;
+                        default_material
+                    }
+                };
+                let ctx = primitives::PrimitiveContext {
+                    origin,
+                    buffers: &source.buffers,
+                    label: format!(
+                        "{} / mesh {} / primitive {}",
+                        nodes::node_label(&node.node),
+                        mesh.index(),
+                        primitive.index()
+                    ),
+                    world_from_object: node.world_from_node,
+                    material,
+                };
+                if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                    scene.meshes.push(built);
+                }
+            }
+        }
+        if let Some(light) = objects::light(node, origin)? {
+            scene.lights.push(light);
+        }
+    }
+    // Cameras in node order, whatever the traversal order.
+    let mut camera_nodes: Vec<&nodes::PlacedNode<'_>> = placed
+        .iter()
+        .filter(|p| p.node.camera().is_some())
+        .collect();
+    camera_nodes.sort_by_key(|p| p.node.index());
+    for node in camera_nodes {
+        if let Some(camera) = objects::camera(node, origin)? {
+            scene.cameras.push(camera);
+        }
+    }
+    if uses_default {
+        materials.push(Material::default());
+    }
+    scene.materials = materials;
+    Ok(Loaded { scene, warnings })
 }

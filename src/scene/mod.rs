@@ -9,6 +9,7 @@ pub mod demo;
 pub mod features;
 pub mod gltf;
 pub mod light_spec;
+pub mod texture_decode;
 
 use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
 
@@ -70,6 +71,9 @@ pub struct Material {
     pub emissive_texture: Option<TextureRef>,
     /// Whether back faces are shaded (otherwise they render black, as glTF specifies).
     pub double_sided: bool,
+    /// A procedural base colour (from the material's glTF `extras`), multiplied into ρ like
+    /// a base colour texture.
+    pub procedural: Option<crate::texture::ProceduralTexture>,
 }
 
 /// Roughness at or below which a metallic surface is a perfect mirror.
@@ -87,6 +91,7 @@ impl Default for Material {
             emissive: Vec3::ZERO,
             emissive_texture: None,
             double_sided: false,
+            procedural: None,
         }
     }
 }

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs what glint needs to build on Debian/Ubuntu, only what is missing:
+#   libembree-dev  Embree (3.13 on Debian 12, 4.x on Debian 13 / Ubuntu 24.04)
+#   libclang-dev   libclang for bindgen
+#   pkg-config, a C compiler, curl (for rustup, if Rust is missing)
+# and a Rust toolchain through rustup when cargo is not on PATH.
+set -euo pipefail
+
+need=()
+dpkg -s libembree-dev >/dev/null 2>&1 || need+=(libembree-dev)
+dpkg -s libclang-dev >/dev/null 2>&1 || need+=(libclang-dev)
+dpkg -s pkg-config >/dev/null 2>&1 || command -v pkg-config >/dev/null || need+=(pkg-config)
+command -v cc >/dev/null 2>&1 || need+=(build-essential)
+if ! command -v cargo >/dev/null 2>&1 && [ ! -x "$HOME/.cargo/bin/cargo" ]; then
+    command -v curl >/dev/null 2>&1 || need+=(curl ca-certificates)
+fi
+
+if [ ${#need[@]} -gt 0 ]; then
+    echo "setup: installing ${need[*]}" >&2
+    sudo=""
+    if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+    export DEBIAN_FRONTEND=noninteractive
+    $sudo apt-get update -qq
+    $sudo apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+    if [ ! -x "$HOME/.cargo/bin/cargo" ]; then
+        echo "setup: installing the stable Rust toolchain with rustup" >&2
+        curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal >&2
+    fi
+fi
+echo "setup: ready ($(dpkg-query -W -f='${Package} ${Version}' libembree-dev 2>/dev/null || echo 'embree: ?'))" >&2

@@ -1,0 +1,422 @@
+//! The job file: TOML with an optional `[defaults]` table, `[[job]]` tables and `[[sweep]]`
+//! tables (see [`super::sweep`]), read into a list of [`Job`]s.
+//!
+//! A job's keys are the long options of `glint render` with `_` for `-` (`max_depth`,
+//! `time_budget`, ...), plus `scene`, `output` and `camera` (an index, or a table
+//! `{ position, look_at, up, yfov }`). Each job is turned into the argument list it stands
+//! for and parsed by the same clap definition as `glint render`, so a job accepts exactly the
+//! options and values `glint render` accepts, and every option added to `glint render` is a
+//! job key at once. Relative paths (`scene`, `output`, `lights`) are relative to the job file.
+
+use super::sweep;
+use crate::cli::render::RenderArgs;
+use clap::{CommandFactory, Parser};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use toml::{Table, Value};
+
+/// One render of a batch.
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// Position in the expanded job list (from 0): what `--shard` and the report use.
+    pub index: usize,
+    /// Where the job comes from, for messages: `[[job]] 2`, `[[sweep]] 0, spp=4`.
+    pub origin: String,
+    /// The render options, paths already resolved against the job file's folder.
+    pub args: RenderArgs,
+    /// A camera given by position, replacing the scene's cameras.
+    pub camera: Option<CameraOverride>,
+}
+
+impl Job {
+    /// The scene file (always set: a job must name one).
+    pub fn scene(&self) -> &Path {
+        self.args.scene.as_deref().unwrap_or(Path::new(""))
+    }
+
+    /// The output file (always set: a job must name one).
+    pub fn output(&self) -> &Path {
+        self.args.output.as_deref().unwrap_or(Path::new(""))
+    }
+}
+
+/// A perspective camera placed by the job file.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraOverride {
+    /// Camera position, world space.
+    pub position: Vec3,
+    /// The point the camera looks at.
+    pub look_at: Vec3,
+    /// The world direction that appears up in the image.
+    pub up: Vec3,
+    /// Vertical field of view in radians; `None` keeps the scene camera's (or the default
+    /// camera's) field of view.
+    pub yfov_radians: Option<f32>,
+}
+
+/// Why a job file cannot be used. Every message names the file; per-job errors name the job
+/// and the key.
+#[derive(Debug, thiserror::Error)]
+pub enum JobFileError {
+    /// The file cannot be read.
+    #[error("cannot read job file {path}: {source}")]
+    Io {
+        /// The job file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML.
+    #[error("{path} is not valid TOML: {message}")]
+    Syntax {
+        /// The job file.
+        path: PathBuf,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// Something is wrong in one table of the file.
+    #[error("{path}: {origin}: {message}")]
+    Job {
+        /// The job file.
+        path: PathBuf,
+        /// `[defaults]`, `[[job]] 2`, `[[sweep]] 0`, or `the file`.
+        origin: String,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+}
+
+/// Keys that set a whole batch, not a job.
+const BATCH_ONLY: [&str; 2] = ["threads", "quiet"];
+
+/// Reads and expands the job file at `path`.
+pub fn load(path: &Path) -> Result<Vec<Job>, JobFileError> {
+    let text = std::fs::read_to_string(path).map_err(|source| JobFileError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse(&text, path)
+}
+
+/// Expands the job file text `text` (read from `path`, which anchors relative paths).
+pub fn parse(text: &str, path: &Path) -> Result<Vec<Job>, JobFileError> {
+    let table: Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| JobFileError::Syntax {
+            path: path.to_path_buf(),
+            message: e.to_string().trim_end().replace('\n', " "),
+        })?;
+    let err = |origin: &str, message: String| JobFileError::Job {
+        path: path.to_path_buf(),
+        origin: origin.to_string(),
+        message,
+    };
+    for key in table.keys() {
+        if !["defaults", "job", "sweep"].contains(&key.as_str()) {
+            return Err(err(
+                "the file",
+                format!(
+                    "unknown top-level key \"{key}\"; a job file has [defaults], [[job]] and \
+                     [[sweep]] tables"
+                ),
+            ));
+        }
+    }
+    let defaults = match table.get("defaults") {
+        None => Table::new(),
+        Some(Value::Table(t)) => t.clone(),
+        Some(_) => {
+            return Err(err(
+                "[defaults]",
+                "must be a table: write [defaults]".into(),
+            ));
+        }
+    };
+    let tables = |name: &str| -> Result<Vec<Table>, JobFileError> {
+        match table.get(name) {
+            None => Ok(Vec::new()),
+            Some(Value::Array(items)) => items
+                .iter()
+                .map(|item| match item {
+                    Value::Table(t) => Ok(t.clone()),
+                    _ => Err(err(name, format!("write each entry as a [[{name}]] table"))),
+                })
+                .collect(),
+            Some(_) => Err(err(name, format!("write each entry as a [[{name}]] table"))),
+        }
+    };
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let context = Context {
+        path,
+        folder,
+        defaults: &defaults,
+    };
+    let mut jobs = Vec::new();
+    for (i, job) in tables("job")?.iter().enumerate() {
+        let origin = format!("[[job]] {i}");
+        jobs.push(context.job(job, &origin, jobs.len())?);
+    }
+    for (i, sweep_table) in tables("sweep")?.iter().enumerate() {
+        let origin = format!("[[sweep]] {i}");
+        let expanded =
+            sweep::expand(sweep_table, is_list_option).map_err(|message| err(&origin, message))?;
+        for variant in expanded {
+            let origin = format!("{origin}, {}", variant.label);
+            jobs.push(context.job(&variant.table, &origin, jobs.len())?);
+        }
+    }
+    if jobs.is_empty() {
+        return Err(err(
+            "the file",
+            "holds no job: add a [[job]] or [[sweep]] table".into(),
+        ));
+    }
+    let mut outputs = std::collections::HashMap::new();
+    for job in &jobs {
+        if let Some(first) = outputs.insert(job.output().to_path_buf(), job.origin.clone()) {
+            return Err(err(
+                &job.origin,
+                format!(
+                    "writes {}, as {first} does: give each job its own output (in a sweep, put \
+                     the swept keys in the name, e.g. \"out-{{spp}}.png\")",
+                    job.output().display()
+                ),
+            ));
+        }
+    }
+    Ok(jobs)
+}
+
+/// Whether option `key` takes a list of values (`light`, `aov`), so that an array is its
+/// value rather than a sweep over values.
+fn is_list_option(key: &str) -> bool {
+    let name = key.replace('_', "-");
+    JobCli::command()
+        .get_arguments()
+        .find(|a| a.get_long() == Some(name.as_str()))
+        .is_some_and(|a| matches!(a.get_action(), clap::ArgAction::Append))
+}
+
+/// `glint render`'s options, parsed from a job's argument list.
+#[derive(Parser)]
+#[command(no_binary_name = true, disable_help_flag = true)]
+struct JobCli {
+    #[command(flatten)]
+    args: RenderArgs,
+}
+
+struct Context<'a> {
+    path: &'a Path,
+    folder: &'a Path,
+    defaults: &'a Table,
+}
+
+impl Context<'_> {
+    fn job(&self, table: &Table, origin: &str, index: usize) -> Result<Job, JobFileError> {
+        let mut merged = self.defaults.clone();
+        for (k, v) in table {
+            merged.insert(k.clone(), v.clone());
+        }
+        let key_error = |key: &str, message: String| JobFileError::Job {
+            path: self.path.to_path_buf(),
+            origin: origin.to_string(),
+            message: format!("key \"{key}\": {message}"),
+        };
+        let mut argv: Vec<String> = Vec::new();
+        let mut camera = None;
+        let mut scene = None;
+        for (key, value) in &merged {
+            match key.as_str() {
+                "scene" => match value {
+                    Value::String(s) => scene = Some(s.clone()),
+                    other => {
+                        return Err(key_error(
+                            key,
+                            format!("must be a file path string, not {}", other.type_str()),
+                        ));
+                    }
+                },
+                "camera" => match value {
+                    Value::Integer(i) if *i >= 0 => {
+                        argv.extend(["--camera".into(), i.to_string()]);
+                    }
+                    Value::Table(t) => {
+                        camera = Some(camera_override(t).map_err(|m| key_error(key, m))?);
+                    }
+                    _ => {
+                        return Err(key_error(
+                            key,
+                            "must be a camera index (0, 1, ...) or a table { position = [x, y, \
+                             z], look_at = [x, y, z], up = [x, y, z], yfov = RADIANS }"
+                                .into(),
+                        ));
+                    }
+                },
+                k if BATCH_ONLY.contains(&k) => {
+                    return Err(key_error(
+                        key,
+                        format!("applies to the whole batch: pass --{k} to glint batch"),
+                    ));
+                }
+                _ => {
+                    let single = option_args(key, value).map_err(|m| key_error(key, m))?;
+                    // Parsed alone first, so that a bad value is blamed on its key.
+                    JobCli::try_parse_from(&single)
+                        .map_err(|e| key_error(key, clap_message(&e)))?;
+                    argv.extend(single);
+                }
+            }
+        }
+        let scene = scene.ok_or_else(|| {
+            key_error(
+                "scene",
+                "missing: every job needs a scene (set it in the job or in [defaults])".into(),
+            )
+        })?;
+        if !merged.contains_key("output") {
+            return Err(key_error(
+                "output",
+                "missing: every job needs an output file (.png, or .exr)".into(),
+            ));
+        }
+        argv.extend(["--".into(), scene]);
+        let mut args = JobCli::try_parse_from(&argv)
+            .map_err(|e| JobFileError::Job {
+                path: self.path.to_path_buf(),
+                origin: origin.to_string(),
+                message: clap_message(&e),
+            })?
+            .args;
+        let resolve = |p: &mut Option<PathBuf>| {
+            if let Some(p) = p
+                && p.is_relative()
+            {
+                *p = self.folder.join(&*p);
+            }
+        };
+        resolve(&mut args.scene);
+        resolve(&mut args.output);
+        resolve(&mut args.lights_file);
+        args.quiet = true;
+        Ok(Job {
+            index,
+            origin: origin.to_string(),
+            args,
+            camera,
+        })
+    }
+}
+
+/// The command-line arguments that `key = value` stands for.
+fn option_args(key: &str, value: &Value) -> Result<Vec<String>, String> {
+    let name = key.replace('_', "-");
+    let command = JobCli::command();
+    let Some(arg) = command
+        .get_arguments()
+        .find(|a| a.get_long() == Some(name.as_str()))
+    else {
+        let mut known: Vec<String> = command
+            .get_arguments()
+            .filter_map(|a| a.get_long())
+            .map(|l| l.replace('-', "_"))
+            .filter(|l| !BATCH_ONLY.contains(&l.as_str()))
+            .collect();
+        known.extend(["scene".into(), "camera".into()]);
+        known.sort();
+        return Err(format!(
+            "unknown key; the job keys are {}",
+            known.join(", ")
+        ));
+    };
+    let flag = format!("--{name}");
+    if !arg.get_action().takes_values() {
+        return match value {
+            Value::Boolean(true) => Ok(vec![flag]),
+            Value::Boolean(false) => Ok(Vec::new()),
+            other => Err(format!("must be true or false, not {}", other.type_str())),
+        };
+    }
+    let scalar = |v: &Value| match v {
+        Value::String(s) => Ok(s.clone()),
+        Value::Integer(i) => Ok(i.to_string()),
+        Value::Float(f) => Ok(f.to_string()),
+        Value::Boolean(b) => Ok(b.to_string()),
+        other => Err(format!("must be a value, not {}", other.type_str())),
+    };
+    match value {
+        Value::Array(items) => {
+            let mut out = Vec::new();
+            for item in items {
+                out.extend([flag.clone(), scalar(item)?]);
+            }
+            Ok(out)
+        }
+        v => Ok(vec![flag, scalar(v)?]),
+    }
+}
+
+/// The first line of a clap error, without its `error: ` prefix.
+fn clap_message(e: &clap::Error) -> String {
+    let text = e.to_string();
+    let line = text.lines().next().unwrap_or_default();
+    line.strip_prefix("error: ").unwrap_or(line).to_string()
+}
+
+/// Reads `{ position, look_at, up, yfov }`.
+fn camera_override(t: &Table) -> Result<CameraOverride, String> {
+    for key in t.keys() {
+        if !["position", "look_at", "up", "yfov"].contains(&key.as_str()) {
+            return Err(format!(
+                "unknown camera key \"{key}\"; use position, look_at, up, yfov (radians)"
+            ));
+        }
+    }
+    let vector = |key: &str| -> Result<Option<Vec3>, String> {
+        let Some(value) = t.get(key) else {
+            return Ok(None);
+        };
+        let items = value.as_array().filter(|a| a.len() == 3);
+        let numbers: Option<Vec<f32>> = items.and_then(|a| a.iter().map(number).collect());
+        match numbers {
+            Some(n) if n.iter().all(|x| x.is_finite()) => Ok(Some(Vec3::new(n[0], n[1], n[2]))),
+            _ => Err(format!("camera {key} must be [x, y, z] (three numbers)")),
+        }
+    };
+    let position = vector("position")?.ok_or("the camera table needs position = [x, y, z]")?;
+    let look_at = vector("look_at")?.ok_or("the camera table needs look_at = [x, y, z]")?;
+    let up = vector("up")?.unwrap_or(Vec3::Y);
+    let yfov_radians = match t.get("yfov") {
+        None => None,
+        Some(v) => match number(v) {
+            Some(y) if y > 0.0 && y < std::f32::consts::PI => Some(y),
+            _ => return Err("camera yfov must be an angle in radians in (0, π)".into()),
+        },
+    };
+    check_frame(position, look_at, up)?;
+    Ok(CameraOverride {
+        position,
+        look_at,
+        up,
+        yfov_radians,
+    })
+}
+
+/// Rejects a camera that looks nowhere or along its up vector.
+pub(crate) fn check_frame(position: Vec3, look_at: Vec3, up: Vec3) -> Result<(), String> {
+    let forward = look_at - position;
+    if forward.length_squared() == 0.0 {
+        return Err("camera position and look_at are the same point".into());
+    }
+    if forward.normalize().cross(up.normalize_or_zero()).length() < 1e-4 {
+        return Err("camera up is parallel to the view direction; pick another up".into());
+    }
+    Ok(())
+}
+
+fn number(v: &Value) -> Option<f32> {
+    match v {
+        Value::Integer(i) => Some(*i as f32),
+        Value::Float(f) => Some(*f as f32),
+        _ => None,
+    }
+}

@@ -1,0 +1,22 @@
+//! Batch rendering: many jobs in one process, resumable, and split over machines by an
+//! existing scheduler.
+//!
+//! - [`jobs`]: the TOML job file, read into [`Job`]s (options as `glint render` takes them).
+//! - [`sweep`]: `[[sweep]]` tables (value lists, camera orbits) expanded into jobs.
+//! - [`shard`]: `--shard I/N`, the deterministic split of jobs (or samples) over machines.
+//! - [`runner`]: runs a shard's jobs: shared scene loads, one thread pool, skips complete
+//!   outputs, isolates failures.
+//! - [`report`]: the per-job JSON report.
+//! - [`parts`]: partial EXRs of split renders, for `glint merge`.
+
+pub mod jobs;
+pub mod parts;
+pub mod report;
+pub mod runner;
+pub mod shard;
+pub mod sweep;
+
+pub use jobs::{CameraOverride, Job, JobFileError};
+pub use report::{BatchReport, JobReport, JobStatus};
+pub use runner::{BatchOptions, run};
+pub use shard::Shard;

@@ -1,0 +1,99 @@
+//! `glint batch`: render the jobs of a TOML job file (or one shard of them) in one process.
+
+use super::CliError;
+use crate::batch::{self, BatchOptions, Shard};
+use std::path::PathBuf;
+
+/// Arguments of `glint batch`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct BatchArgs {
+    /// The job file (TOML; format in docs/batch.md).
+    pub jobs: PathBuf,
+    /// Write a JSON report (status, seconds, rays, output, error of each job) here.
+    #[arg(long, value_name = "REPORT.json")]
+    pub report: Option<PathBuf>,
+    /// Run only the jobs whose index ≡ I (mod N), I from 0 (for Slurm arrays, Kubernetes
+    /// Indexed Jobs, GNU parallel).
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<Shard>,
+    /// Render jobs whose output already exists (by default they are skipped).
+    #[arg(long)]
+    pub force: bool,
+    /// Worker threads shared by all jobs; 0 uses every core.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// List the jobs of the shard (index, origin, output) and render nothing.
+    #[arg(long)]
+    pub list: bool,
+    /// No progress bar and no per-job lines (failures still print).
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Runs `glint batch`. Fails (non-zero exit) when the job file is unusable or any job failed.
+pub fn run(args: BatchArgs) -> Result<(), CliError> {
+    let jobs = batch::jobs::load(&args.jobs).map_err(CliError::from_display)?;
+    let shard = args.shard.unwrap_or(Shard::ALL);
+    if args.list {
+        use std::io::Write;
+        let mut out = std::io::stdout().lock();
+        for job in jobs.iter().filter(|j| shard.takes(j.index)) {
+            // A closed pipe (`| head`) ends the listing quietly.
+            if writeln!(
+                out,
+                "{}\t{}\t{}",
+                job.index,
+                job.origin,
+                job.output().display()
+            )
+            .is_err()
+            {
+                break;
+            }
+        }
+        return Ok(());
+    }
+    if let Some(report) = &args.report {
+        let folder = report.parent().filter(|p| !p.as_os_str().is_empty());
+        if folder.is_some_and(|f| !f.is_dir()) {
+            return Err(CliError(format!(
+                "cannot write the report {}: its folder does not exist; create it first",
+                report.display()
+            )));
+        }
+    }
+    let options = BatchOptions {
+        shard,
+        force: args.force,
+        threads: args.threads,
+        quiet: args.quiet,
+    };
+    let report = batch::run(&jobs, &args.jobs, &options).map_err(CliError::from_display)?;
+    if let Some(path) = &args.report {
+        report.write_json(path).map_err(CliError::from_display)?;
+    }
+    println!(
+        "{}: shard {} ({} of {} jobs): {} rendered, {} skipped, {} failed in {:.2} s",
+        args.jobs.display(),
+        report.shard,
+        report.jobs.len(),
+        report.jobs_in_file,
+        report.rendered,
+        report.skipped,
+        report.failed,
+        report.seconds
+    );
+    if report.all_succeeded() {
+        Ok(())
+    } else {
+        Err(CliError(format!(
+            "{} of {} jobs failed{}",
+            report.failed,
+            report.jobs.len(),
+            match &args.report {
+                Some(path) => format!("; details in {}", path.display()),
+                None => "; the errors are above".to_string(),
+            }
+        )))
+    }
+}

@@ -1,0 +1,79 @@
+//! Surface scattering: glTF metallic-roughness materials mapped onto glint's two BRDFs.
+//!
+//! A material's reflectance ρ is `base colour × vertex colour (COLOR_0) × base colour texture`,
+//! all linear RGB. It is split between two lobes by [`Material::diffuse_weight`] and
+//! [`Material::mirror_weight`](crate::scene::Material::mirror_weight):
+//! - [`lambert`]: `f = diffuse_weight · ρ / π`;
+//! - [`mirror`]: a perfect specular reflection with reflectance `mirror_weight · ρ`.
+//!
+//! Emission is `emissive × emissive texture` (W/(m²·sr)). Back faces of single-sided materials
+//! neither emit nor reflect. Alpha is ignored. [`texture`] holds the bilinear lookup.
+//!
+//! [`Material::diffuse_weight`]: crate::scene::Material::diffuse_weight
+
+pub mod lambert;
+pub mod mirror;
+pub mod texture;
+
+pub use lambert::Lambert;
+pub use mirror::{Mirror, reflect};
+
+use crate::scene::{Material, Scene, TextureRef};
+use glam::Vec3;
+
+/// A material prepared for shading: the weights and factors each hit needs, computed once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadingMaterial {
+    /// Linear base colour factor (RGB of the glTF factor).
+    pub base_color: Vec3,
+    /// Base colour texture, if it names an existing texture.
+    pub base_color_texture: Option<TextureRef>,
+    /// Share of ρ reflected diffusely.
+    pub diffuse_weight: f32,
+    /// Share of ρ reflected as a mirror.
+    pub mirror_weight: f32,
+    /// Emitted radiance factor, W/(m²·sr).
+    pub emissive: Vec3,
+    /// Emissive texture, if it names an existing texture.
+    pub emissive_texture: Option<TextureRef>,
+    /// Whether back faces are shaded.
+    pub double_sided: bool,
+    /// Procedural base colour, multiplied into ρ.
+    pub procedural: Option<crate::texture::ProceduralTexture>,
+}
+
+impl ShadingMaterial {
+    /// Prepares `material`; texture references to textures the scene lacks are dropped (the
+    /// loader reports those; the renderer must not index out of bounds).
+    pub fn new(material: &Material, texture_count: usize) -> Self {
+        let valid = |t: &Option<TextureRef>| t.filter(|r| r.texture < texture_count);
+        Self {
+            base_color: material.base_color.truncate(),
+            base_color_texture: valid(&material.base_color_texture),
+            diffuse_weight: material.diffuse_weight(),
+            mirror_weight: material.mirror_weight(),
+            emissive: material.emissive,
+            emissive_texture: valid(&material.emissive_texture),
+            double_sided: material.double_sided,
+            procedural: material.procedural.clone(),
+        }
+    }
+
+    /// The materials of `scene`, plus glTF's default material at the end for meshes whose
+    /// material index is out of range (see [`material_index`]).
+    pub fn table(scene: &Scene) -> Vec<ShadingMaterial> {
+        scene
+            .materials
+            .iter()
+            .chain(std::iter::once(&Material::default()))
+            .map(|m| Self::new(m, scene.textures.len()))
+            .collect()
+    }
+}
+
+/// The index into [`ShadingMaterial::table`] for a mesh's material index: itself, or the
+/// default material at the end when out of range.
+#[inline]
+pub fn material_index(mesh_material: usize, table_len: usize) -> usize {
+    mesh_material.min(table_len.saturating_sub(1))
+}

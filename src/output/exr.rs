@@ -1,0 +1,70 @@
+//! OpenEXR output: linear radiance as 32-bit floats, one part, ZIP-compressed scan lines.
+//!
+//! Channels: `R`, `G`, `B` (radiance, W/(m²·sr)), plus for each selected AOV
+//! `albedo.R/G/B`, `normal.X/Y/Z` (world space) and `depth.Z` (scene units), named with the
+//! layer-prefix convention OpenEXR readers group into layers. Exposure is not applied.
+
+use super::{OutputError, write_atomically};
+use crate::render::{Aovs, Image};
+use exr::prelude::{
+    AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes, SmallVec, WritableImage,
+};
+use glam::Vec3;
+
+/// Writes `image` and the AOVs present in `aovs` to `path`, atomically.
+pub fn write_exr(
+    path: &std::path::Path,
+    image: &Image<Vec3>,
+    aovs: &Aovs,
+) -> Result<(), OutputError> {
+    let encode_error = |message: String| OutputError::Encode {
+        path: path.to_path_buf(),
+        format: "EXR",
+        message,
+    };
+    let pixel_count = image.width as usize * image.height as usize;
+    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
+    let mut add_vec3 = |names: [&str; 3], source: &Image<Vec3>| -> Result<(), OutputError> {
+        if source.pixels.len() != pixel_count {
+            return Err(encode_error(format!(
+                "channel {} has {} pixels, expected {pixel_count}",
+                names[0],
+                source.pixels.len()
+            )));
+        }
+        for (axis, name) in names.iter().enumerate() {
+            let samples = source.pixels.iter().map(|p| p[axis]).collect();
+            channels.push(AnyChannel::new(*name, FlatSamples::F32(samples)));
+        }
+        Ok(())
+    };
+    add_vec3(["R", "G", "B"], image)?;
+    if let Some(albedo) = &aovs.albedo {
+        add_vec3(["albedo.R", "albedo.G", "albedo.B"], albedo)?;
+    }
+    if let Some(normal) = &aovs.normal {
+        add_vec3(["normal.X", "normal.Y", "normal.Z"], normal)?;
+    }
+    if let Some(depth) = &aovs.depth {
+        if depth.pixels.len() != pixel_count {
+            return Err(encode_error("depth AOV has the wrong size".into()));
+        }
+        channels.push(AnyChannel::new(
+            "depth.Z",
+            FlatSamples::F32(depth.pixels.clone()),
+        ));
+    }
+    let layer = Layer::new(
+        (image.width as usize, image.height as usize),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels),
+    );
+    let exr_image = exr::image::Image::from_layer(layer);
+    write_atomically(path, |writer| {
+        exr_image
+            .write()
+            .to_buffered(writer)
+            .map_err(|e| encode_error(e.to_string()))
+    })
+}

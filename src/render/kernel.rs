@@ -1,0 +1,88 @@
+//! Shading kernels specialised for what a scene uses.
+//!
+//! The tile integrator is generic over four compile-time switches: texture lookups, mirror
+//! reflections, vertex colours and interpolated shading normals. `select` picks the
+//! instance whose switches match the scene's [`SceneFeatures`], so per-hit work the scene
+//! cannot need is not compiled into the loop that runs. Lights are specialised separately:
+//! [`LightSet`](crate::light::LightSet) keeps one list per light type and range kind, each
+//! looped over with its type known, so a scene without spot lights runs no cone test and one
+//! without ranges no range window.
+//!
+//! The general kernel turns every switch on and evaluates lights through the run-time typed
+//! [`GeneralLight`](crate::light::GeneralLight). It gives the same image and exists to measure
+//! what the specialisation buys (`cli::bench_render::kernel_bench`).
+
+use super::film::TileSums;
+use super::integrator::{Scratch, TileContext, render_tile};
+use super::stats::RayCounts;
+use super::tiles::Tile;
+use crate::scene::SceneFeatures;
+
+/// Which kernel renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum KernelChoice {
+    /// The kernel specialised for the scene's features (the default).
+    #[default]
+    Specialised,
+    /// Every feature on, lights typed at run time.
+    General,
+}
+
+/// The work a kernel does per hit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct KernelFlags {
+    /// Interpolates texture coordinates and samples textures.
+    pub textures: bool,
+    /// Traces mirror reflection rays.
+    pub mirrors: bool,
+    /// Interpolates vertex colours.
+    pub vertex_colors: bool,
+    /// Interpolates vertex normals.
+    pub shading_normals: bool,
+    /// Loops over lights per type (false: one run-time typed list).
+    pub typed_lights: bool,
+}
+
+impl KernelFlags {
+    /// The flags of `choice` for a scene with `features`.
+    pub fn for_scene(features: &SceneFeatures, choice: KernelChoice) -> Self {
+        match choice {
+            KernelChoice::Specialised => Self {
+                textures: features.textures,
+                mirrors: features.mirrors,
+                vertex_colors: features.vertex_colors,
+                shading_normals: features.shading_normals,
+                typed_lights: true,
+            },
+            KernelChoice::General => Self {
+                textures: true,
+                mirrors: true,
+                vertex_colors: true,
+                shading_normals: true,
+                typed_lights: false,
+            },
+        }
+    }
+}
+
+/// A tile renderer: one monomorphised instance of the integrator.
+pub(crate) type TileFn = fn(&TileContext<'_>, &Tile, &mut Scratch) -> (TileSums, RayCounts);
+
+/// The integrator instance for `flags` (the light typing is read from the context).
+pub(crate) fn select(flags: &KernelFlags) -> TileFn {
+    macro_rules! pick {
+        ($($t:literal $m:literal $c:literal $n:literal),* $(,)?) => {
+            match (flags.textures, flags.mirrors, flags.vertex_colors, flags.shading_normals) {
+                $(($t, $m, $c, $n) => render_tile::<$t, $m, $c, $n>,)*
+            }
+        };
+    }
+    pick!(
+        false false false false, false false false true, false false true false,
+        false false true true, false true false false, false true false true,
+        false true true false, false true true true, true false false false,
+        true false false true, true false true false, true false true true,
+        true true false false, true true false true, true true true false,
+        true true true true,
+    )
+}

@@ -1,0 +1,223 @@
+//! glTF materials → [`Material`]s, and the textures they use → decoded [`Texture`]s.
+
+use super::LoadError;
+use super::source::{Origin, read_uri, view_bytes};
+use crate::scene::texture_decode::{ColorSpace, DecodedImage, decode_image};
+use crate::scene::{MagFilter, Material, Texture, TextureRef, WrapMode};
+use glam::{Affine2, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// Every material of the file, index-aligned, plus the textures they reference.
+pub struct Materials {
+    /// One per glTF material, in file order.
+    pub materials: Vec<Material>,
+    /// The textures the materials reference.
+    pub textures: Vec<Texture>,
+}
+
+/// A texture the materials need: which glTF texture, read in which colour space.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct TextureKey {
+    texture: usize,
+    space: ColorSpace,
+}
+
+/// Converts the document's materials and decodes the textures they use (base colour and
+/// emissive, both sRGB). Textures no supported channel uses are never decoded.
+pub fn load(
+    document: &::gltf::Document,
+    buffers: &[Vec<u8>],
+    origin: Origin<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<Materials, LoadError> {
+    let mut keys: Vec<TextureKey> = Vec::new();
+    let mut slots: HashMap<TextureKey, usize> = HashMap::new();
+    let mut request = |info: Option<::gltf::texture::Info<'_>>,
+                       space,
+                       channel: &str,
+                       material: &str| {
+        let info = info?;
+        let transform = info.texture_transform();
+        let texcoord = transform
+            .as_ref()
+            .and_then(|t| t.tex_coord())
+            .unwrap_or(info.tex_coord()) as usize;
+        if texcoord > 1 {
+            warnings.push(format!(
+                "{}: {material}: {channel} texture reads TEXCOORD_{texcoord}; glint keeps TEXCOORD_0 and _1 only, \
+                 so the texture is ignored",
+                origin.file.display()
+            ));
+            return None;
+        }
+        let key = TextureKey {
+            texture: info.texture().index(),
+            space,
+        };
+        let next = keys.len();
+        let texture = *slots.entry(key).or_insert_with(|| {
+            keys.push(key);
+            next
+        });
+        Some(TextureRef {
+            texture,
+            texcoord,
+            transform: transform.map_or(Affine2::IDENTITY, |t| {
+                uv_transform(t.offset(), t.rotation(), t.scale())
+            }),
+        })
+    };
+
+    let mut materials = Vec::with_capacity(document.materials().len());
+    for material in document.materials() {
+        let label = match (material.index(), material.name()) {
+            (Some(i), Some(name)) => format!("material {i} \"{name}\""),
+            (Some(i), None) => format!("material {i}"),
+            (None, _) => "default material".to_string(),
+        };
+        let pbr = material.pbr_metallic_roughness();
+        let emissive_strength = material.emissive_strength().unwrap_or(1.0);
+        materials.push(Material {
+            name: material
+                .name()
+                .map_or_else(|| label.clone(), str::to_string),
+            base_color: Vec4::from(pbr.base_color_factor()),
+            base_color_texture: request(
+                pbr.base_color_texture(),
+                ColorSpace::Srgb,
+                "base colour",
+                &label,
+            ),
+            metallic: pbr.metallic_factor(),
+            roughness: pbr.roughness_factor(),
+            emissive: Vec3::from(material.emissive_factor()) * emissive_strength,
+            emissive_texture: request(
+                material.emissive_texture(),
+                ColorSpace::Srgb,
+                "emissive",
+                &label,
+            ),
+            double_sided: material.double_sided(),
+            procedural: super::procedural::from_extras(material.extras(), &label, origin)?,
+        });
+    }
+
+    let textures = decode_textures(document, buffers, &keys, origin)?;
+    Ok(Materials {
+        materials,
+        textures,
+    })
+}
+
+/// KHR_texture_transform as an affine map on texture coordinates, uv' = T · R · S · uv.
+///
+/// R is the rotation in glTF's UV space, whose v axis points down:
+/// R = [[cos r, sin r], [−sin r, cos r]] (rows). The extension's GLSL listing shows the
+/// transpose, which contradicts its own worked example and the sample model
+/// TextureTransformTest (glTF issue #1563); the example and the implementations agree on
+/// this form, which rotates by −r in a y-up frame.
+pub fn uv_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> Affine2 {
+    Affine2::from_scale_angle_translation(Vec2::from(scale), -rotation, Vec2::from(offset))
+}
+
+/// Decodes each (texture, colour space) the materials need, each (image, colour space)
+/// once, in parallel, and attaches each texture's sampler settings.
+fn decode_textures(
+    document: &::gltf::Document,
+    buffers: &[Vec<u8>],
+    keys: &[TextureKey],
+    origin: Origin<'_>,
+) -> Result<Vec<Texture>, LoadError> {
+    let textures: Vec<::gltf::Texture<'_>> = document.textures().collect();
+    // Validation guarantees texture indices are in range; `keys` holds only such indices.
+    let image_of = |key: &TextureKey| textures[key.texture].source();
+
+    // The distinct (image, colour space) pairs, with their encoded bytes read up front
+    // (I/O is sequential; decoding is the expensive part and runs in parallel).
+    let mut image_keys: Vec<(usize, ColorSpace)> = keys
+        .iter()
+        .map(|k| (image_of(k).index(), k.space))
+        .collect();
+    image_keys.sort_by_key(|&(image, space)| (image, space == ColorSpace::Linear));
+    image_keys.dedup();
+    let mut encoded: HashMap<usize, (String, std::borrow::Cow<'_, [u8]>)> = HashMap::new();
+    for &(image_index, _) in &image_keys {
+        if encoded.contains_key(&image_index) {
+            continue;
+        }
+        // `image_index` came from a texture's source, which validation checked.
+        let Some(image) = document.images().nth(image_index) else {
+            return Err(LoadError::Invalid {
+                path: origin.file.to_path_buf(),
+                message: format!(
+                    "image {image_index} does not exist (the file is corrupt; re-export it)"
+                ),
+            });
+        };
+        let label = image_label(&image);
+        let bytes = match image.source() {
+            ::gltf::image::Source::View { view, .. } => {
+                std::borrow::Cow::Borrowed(view_bytes(&view, buffers, &label, origin)?)
+            }
+            ::gltf::image::Source::Uri { uri, .. } => read_uri(uri, &label, origin)?,
+        };
+        encoded.insert(image_index, (label, bytes));
+    }
+    let decoded: Vec<((usize, ColorSpace), DecodedImage)> = image_keys
+        .par_iter()
+        .map(|&(image_index, space)| {
+            // Every image key's bytes were read above (or the load already failed).
+            let (label, bytes) = &encoded[&image_index];
+            decode_image(bytes, space)
+                .map(|image| ((image_index, space), image))
+                .map_err(|err| LoadError::Texture {
+                    path: origin.file.to_path_buf(),
+                    image: label.clone(),
+                    message: err.to_string(),
+                })
+        })
+        .collect::<Result<_, _>>()?;
+    let decoded: HashMap<(usize, ColorSpace), DecodedImage> = decoded.into_iter().collect();
+
+    Ok(keys
+        .iter()
+        .map(|key| {
+            let texture = &textures[key.texture];
+            let image = image_of(key);
+            // Decoded above for every key's (image, colour space).
+            let pixels = &decoded[&(image.index(), key.space)];
+            let sampler = texture.sampler();
+            Texture {
+                name: image_label(&image),
+                width: pixels.width,
+                height: pixels.height,
+                texels: pixels.texels.clone(),
+                wrap_s: wrap_mode(sampler.wrap_s()),
+                wrap_t: wrap_mode(sampler.wrap_t()),
+                mag_filter: match sampler.mag_filter() {
+                    Some(::gltf::texture::MagFilter::Nearest) => MagFilter::Nearest,
+                    Some(::gltf::texture::MagFilter::Linear) | None => MagFilter::Linear,
+                },
+            }
+        })
+        .collect())
+}
+
+fn image_label(image: &::gltf::Image<'_>) -> String {
+    match (image.source(), image.name()) {
+        (::gltf::image::Source::Uri { uri, .. }, _) if !uri.starts_with("data:") => {
+            format!("image {} \"{uri}\"", image.index())
+        }
+        (_, Some(name)) => format!("image {} \"{name}\"", image.index()),
+        _ => format!("image {}", image.index()),
+    }
+}
+
+fn wrap_mode(mode: ::gltf::texture::WrappingMode) -> WrapMode {
+    match mode {
+        ::gltf::texture::WrappingMode::Repeat => WrapMode::Repeat,
+        ::gltf::texture::WrappingMode::MirroredRepeat => WrapMode::MirroredRepeat,
+        ::gltf::texture::WrappingMode::ClampToEdge => WrapMode::ClampToEdge,
+    }
+}

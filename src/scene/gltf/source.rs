@@ -1,0 +1,349 @@
+//! From bytes to a validated glTF document with its buffers in memory.
+//!
+//! The `gltf` crate parses and validates the JSON; glint resolves buffers and image URIs
+//! itself so that every failure names the URI and where it was looked for, and checks the GLB
+//! header before the crate sees it (the crate underflows on a header length below 12).
+
+use super::LoadError;
+use base64::Engine as _;
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+
+/// Extensions glint honours when a file lists them as required.
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+];
+
+/// Size of the GLB header: magic, version, total length (3 × u32).
+const GLB_HEADER_BYTES: usize = 12;
+
+/// A parsed, validated document and the bytes of its buffers (index-aligned).
+pub struct Source {
+    /// The validated document.
+    pub document: ::gltf::Document,
+    /// Each buffer's bytes, at least as long as the buffer's declared `byteLength`.
+    pub buffers: Vec<Vec<u8>>,
+}
+
+/// Where the loader reads from, for messages and relative URIs.
+#[derive(Clone, Copy)]
+pub struct Origin<'a> {
+    /// The scene file (or the in-memory label) named in messages.
+    pub file: &'a Path,
+    /// The folder relative URIs resolve against; `None` forbids external files.
+    pub base_dir: Option<&'a Path>,
+}
+
+impl Origin<'_> {
+    fn syntax(&self, message: impl Into<String>) -> LoadError {
+        LoadError::Syntax {
+            path: self.file.to_path_buf(),
+            message: message.into(),
+        }
+    }
+
+    fn data(&self, what: impl Into<String>, problem: impl Into<String>) -> LoadError {
+        LoadError::Data {
+            path: self.file.to_path_buf(),
+            what: what.into(),
+            problem: problem.into(),
+        }
+    }
+}
+
+/// Parses `bytes` (JSON or GLB), checks required extensions, validates the document and
+/// loads its buffers. Unsupported extensions that are merely used are reported in `warnings`.
+pub fn parse(
+    bytes: &[u8],
+    origin: Origin<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<Source, LoadError> {
+    if bytes.is_empty() {
+        return Err(origin.syntax("the file is empty (re-export or re-download it)"));
+    }
+    if bytes.starts_with(b"glTF") {
+        check_glb_header(bytes, origin)?;
+    }
+    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|err| match err {
+            ::gltf::Error::Binary(err) => origin.syntax(describe_glb_error(&err)),
+            ::gltf::Error::Deserialize(err) => origin.syntax(format!(
+                "not valid glTF JSON: {err} (the file is truncated or not a glTF file)"
+            )),
+            other => origin.syntax(other.to_string()),
+        })?;
+    let root = document.into_json();
+    check_extensions(&root, origin, warnings)?;
+    check_mesh_accessor_references(&root, origin)?;
+    let document = ::gltf::Document::from_json(root).map_err(|err| match err {
+        ::gltf::Error::Validation(problems) => LoadError::Schema {
+            path: origin.file.to_path_buf(),
+            problems: describe_validation(&problems),
+        },
+        other => origin.syntax(other.to_string()),
+    })?;
+    let buffers = load_buffers(&document, blob, origin)?;
+    Ok(Source { document, buffers })
+}
+
+/// Checks what the GLB header promises against the bytes present, with messages that say
+/// "truncated" when the file was cut short.
+fn check_glb_header(bytes: &[u8], origin: Origin<'_>) -> Result<(), LoadError> {
+    let Some(header) = bytes.get(..GLB_HEADER_BYTES) else {
+        return Err(origin.syntax(format!(
+            "truncated GLB: {} bytes, shorter than the 12-byte header (re-export or re-download it)",
+            bytes.len()
+        )));
+    };
+    let word =
+        |i: usize| u32::from_le_bytes([header[i], header[i + 1], header[i + 2], header[i + 3]]);
+    let (version, length) = (word(4), word(8));
+    if version != 2 {
+        return Err(origin.syntax(format!(
+            "GLB version {version} is not supported; glint reads glTF 2.0 (re-export as glTF 2.0)"
+        )));
+    }
+    let length = usize::try_from(length).unwrap_or(usize::MAX);
+    if length < GLB_HEADER_BYTES {
+        return Err(origin.syntax(format!(
+            "invalid GLB: the header gives a total length of {length} bytes, less than the header itself"
+        )));
+    }
+    if length > bytes.len() {
+        return Err(origin.syntax(format!(
+            "truncated GLB: the header says {length} bytes but the file has {} (re-export or re-download it)",
+            bytes.len()
+        )));
+    }
+    Ok(())
+}
+
+fn describe_glb_error(err: &::gltf::binary::Error) -> String {
+    use ::gltf::binary::{ChunkType, Error};
+    let chunk = |ty: &ChunkType| match ty {
+        ChunkType::Json => "JSON",
+        ChunkType::Bin => "BIN",
+    };
+    match err {
+        Error::Io(err) => format!("truncated GLB: {err} (re-export or re-download it)"),
+        Error::Version(v) => format!("GLB version {v} is not supported; glint reads glTF 2.0"),
+        Error::Magic(m) => format!("not a GLB file (magic {m:?})"),
+        Error::Length {
+            length,
+            length_read,
+        } => format!(
+            "truncated GLB: {length} bytes of content declared, {length_read} present (re-export or re-download it)"
+        ),
+        Error::ChunkLength {
+            ty,
+            length,
+            length_read,
+        } => format!(
+            "truncated GLB: the {} chunk declares {length} bytes but only {length_read} follow (re-export or re-download it)",
+            chunk(ty)
+        ),
+        Error::ChunkType(ty) => format!("invalid GLB: unexpected {} chunk", chunk(ty)),
+        Error::UnknownChunkType(ty) => format!("invalid GLB: unknown chunk type {ty:?}"),
+    }
+}
+
+/// Refuses required extensions glint cannot honour; warns about used ones it ignores.
+fn check_extensions(
+    root: &::gltf::json::Root,
+    origin: Origin<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<(), LoadError> {
+    if let Some(extension) = root
+        .extensions_required
+        .iter()
+        .find(|e| !SUPPORTED_EXTENSIONS.contains(&e.as_str()))
+    {
+        return Err(LoadError::UnsupportedExtension {
+            path: origin.file.to_path_buf(),
+            extension: extension.clone(),
+            supported: SUPPORTED_EXTENSIONS.join(", "),
+        });
+    }
+    for extension in &root.extensions_used {
+        if !SUPPORTED_EXTENSIONS.contains(&extension.as_str()) {
+            warnings.push(format!(
+                "{}: extension {extension} is used but not supported; its effects are ignored",
+                origin.file.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Names the primitive and the attribute when a mesh refers to an accessor that does not
+/// exist (the schema check would only give the JSON path).
+fn check_mesh_accessor_references(
+    root: &::gltf::json::Root,
+    origin: Origin<'_>,
+) -> Result<(), LoadError> {
+    let count = root.accessors.len();
+    for (mesh_index, mesh) in root.meshes.iter().enumerate() {
+        for (primitive_index, primitive) in mesh.primitives.iter().enumerate() {
+            let attributes = primitive.attributes.iter().map(|(semantic, index)| {
+                let name = match semantic {
+                    ::gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                    ::gltf::json::validation::Checked::Invalid => {
+                        "an unknown attribute".to_string()
+                    }
+                };
+                (name, index.value())
+            });
+            let indices = primitive
+                .indices
+                .map(|i| ("indices".to_string(), i.value()));
+            for (what, accessor) in attributes.chain(indices) {
+                if accessor >= count {
+                    return Err(LoadError::Primitive {
+                        path: origin.file.to_path_buf(),
+                        primitive: format!("mesh {mesh_index} / primitive {primitive_index}"),
+                        problem: format!(
+                            "{what} refers to accessor {accessor}, but the file has only {count} accessors \
+                             (the file is corrupt; re-export it)"
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn describe_validation(
+    problems: &[(::gltf::json::Path, ::gltf::json::validation::Error)],
+) -> String {
+    /// Enough to locate the first problems without flooding the terminal.
+    const SHOWN: usize = 3;
+    let mut text = problems
+        .iter()
+        .take(SHOWN)
+        .map(|(path, error)| format!("{path}: {error}"))
+        .collect::<Vec<_>>()
+        .join("; ");
+    if problems.len() > SHOWN {
+        text.push_str(&format!("; and {} more", problems.len() - SHOWN));
+    }
+    text
+}
+
+/// Reads every buffer: the GLB's BIN chunk, a data URI or a file next to the scene.
+fn load_buffers(
+    document: &::gltf::Document,
+    mut blob: Option<Vec<u8>>,
+    origin: Origin<'_>,
+) -> Result<Vec<Vec<u8>>, LoadError> {
+    let mut buffers = Vec::with_capacity(document.buffers().len());
+    for buffer in document.buffers() {
+        let what = format!("buffer {}", buffer.index());
+        let data = match buffer.source() {
+            ::gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                origin.data(
+                    &what,
+                    "refers to the GLB binary chunk, but the file has none (or it is used twice); re-export the scene",
+                )
+            })?,
+            ::gltf::buffer::Source::Uri(uri) => read_uri(uri, &what, origin)?.into_owned(),
+        };
+        if data.len() < buffer.length() {
+            return Err(origin.data(
+                &what,
+                format!(
+                    "declares {} bytes but only {} are present (the data is truncated; re-export it)",
+                    buffer.length(),
+                    data.len()
+                ),
+            ));
+        }
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+/// The bytes a URI names: decoded from a base64 data URI, or read from a file relative to
+/// the scene's folder (percent-escapes such as `%20` decoded first).
+pub fn read_uri<'u>(
+    uri: &'u str,
+    what: &str,
+    origin: Origin<'_>,
+) -> Result<Cow<'u, [u8]>, LoadError> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let Some((_media_type, payload)) = rest.split_once(";base64,") else {
+            return Err(origin.data(
+                what,
+                "has a data URI that is not base64-encoded; only `data:<type>;base64,<data>` is supported",
+            ));
+        };
+        return base64::engine::general_purpose::STANDARD
+            .decode(payload)
+            .map(Cow::Owned)
+            .map_err(|err| {
+                origin.data(
+                    what,
+                    format!("has a data URI with invalid base64 ({err}); re-export the scene"),
+                )
+            });
+    }
+    if let Some((scheme, _)) = uri.split_once(':')
+        && !scheme.contains('/')
+    {
+        return Err(origin.data(
+            what,
+            format!("refers to \"{uri}\": URI scheme \"{scheme}:\" is not supported; use a relative path or embed the data"),
+        ));
+    }
+    let Some(base_dir) = origin.base_dir else {
+        return Err(origin.data(
+            what,
+            format!("refers to the external file \"{uri}\", but this scene is loaded from memory; embed the data (GLB)"),
+        ));
+    };
+    let relative = urlencoding::decode(uri).map_err(|_| {
+        origin.data(
+            what,
+            format!("refers to \"{uri}\", whose %-escapes are not UTF-8; fix the URI"),
+        )
+    })?;
+    let resolved: PathBuf = base_dir.join(relative.as_ref());
+    std::fs::read(&resolved)
+        .map(Cow::Owned)
+        .map_err(|source| LoadError::MissingFile {
+            path: origin.file.to_path_buf(),
+            what: what.to_string(),
+            uri: uri.to_string(),
+            resolved,
+            source,
+        })
+}
+
+/// The bytes of a buffer view, checked against its buffer.
+pub fn view_bytes<'b>(
+    view: &::gltf::buffer::View<'_>,
+    buffers: &'b [Vec<u8>],
+    what: &str,
+    origin: Origin<'_>,
+) -> Result<&'b [u8], LoadError> {
+    let buffer: &[u8] = buffers
+        .get(view.buffer().index())
+        .map_or(&[], Vec::as_slice);
+    view.offset()
+        .checked_add(view.length())
+        .and_then(|end| buffer.get(view.offset()..end))
+        .ok_or_else(|| {
+            origin.data(
+                format!("{what}: buffer view {}", view.index()),
+                format!(
+                    "bytes {}..+{} lie outside buffer {} ({} bytes); the file is corrupt, re-export it",
+                    view.offset(),
+                    view.length(),
+                    view.buffer().index(),
+                    buffer.len()
+                ),
+            )
+        })
+}

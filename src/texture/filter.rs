@@ -1,0 +1,211 @@
+//! Filtered texture lookups: what a pixel's footprint on the texture averages to.
+//!
+//! The footprint is the pixel's image in texture space to first order: the derivatives of uv
+//! with respect to film x and y (from ray differentials), `∂uv/∂x` and `∂uv/∂y`. In texels
+//! (scaled by the base level's size) their lengths ρx, ρy say how many texels one pixel
+//! spans along each film axis.
+//!
+//! - `Nearest`, `Bilinear`, `Bicubic`: the base level only, footprint ignored (they alias
+//!   under minification; for experiments and references).
+//! - `Trilinear`: the isotropic level of detail `λ = log2(max(ρx, ρy))` (the OpenGL
+//!   definition), bilinear on levels ⌊λ⌋ and ⌊λ⌋+1, blended by the fraction. Sharp where
+//!   the footprint is round, blurry where it is long (a plane seen at a grazing angle).
+//! - `Anisotropic`: λ from the *minor* axis, and ⌈major/minor⌉ trilinear probes spaced along
+//!   the major axis (as GPU anisotropic filtering does), the ratio capped at
+//!   [`MAX_ANISOTROPY`] so a grazing footprint costs at most that many probes.
+//!
+//! Below one texel per pixel (λ ≤ 0, magnification) `Trilinear` and `Anisotropic` use the
+//! glTF sampler's magnification filter (nearest or bilinear) on the base level. A footprint
+//! that is not finite (a differential that could not be carried) reads the coarsest level,
+//! the texture's mean: blurry, never NaN.
+
+use super::image::TexelGrid;
+use super::mipmap::MipMap;
+use crate::scene::MagFilter;
+use glam::{Vec2, Vec4};
+
+/// Largest major/minor axis ratio the anisotropic filter honours (probes per lookup).
+pub const MAX_ANISOTROPY: f32 = 16.0;
+
+/// How textures are filtered; `--texture-filter`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum TextureFilter {
+    /// Nearest texel of the base level (no MIP maps; the glTF sampler is ignored).
+    Nearest,
+    /// Bilinear on the base level (no MIP maps).
+    Bilinear,
+    /// Bicubic (Catmull–Rom) on the base level (no MIP maps).
+    Bicubic,
+    /// Trilinear MIP mapping from the isotropic footprint.
+    Trilinear,
+    /// Anisotropic: several trilinear probes along the footprint's major axis.
+    #[default]
+    Anisotropic,
+}
+
+impl TextureFilter {
+    /// Whether the filter reads the footprint, so that ray differentials are worth computing.
+    pub fn uses_footprint(self) -> bool {
+        matches!(self, Self::Trilinear | Self::Anisotropic)
+    }
+
+    /// Name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Nearest => "nearest",
+            Self::Bilinear => "bilinear",
+            Self::Bicubic => "bicubic",
+            Self::Trilinear => "trilinear",
+            Self::Anisotropic => "anisotropic",
+        }
+    }
+}
+
+/// A pixel's footprint in uv space: the derivatives of uv with respect to film x and y.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct UvFootprint {
+    /// ∂uv/∂x (per pixel, already scaled for the sample count).
+    pub duv_dx: Vec2,
+    /// ∂uv/∂y.
+    pub duv_dy: Vec2,
+}
+
+impl UvFootprint {
+    /// The footprint in texels of a `width × height` level.
+    #[inline]
+    fn in_texels(&self, width: u32, height: u32) -> (Vec2, Vec2) {
+        let size = Vec2::new(width as f32, height as f32);
+        (self.duv_dx * size, self.duv_dy * size)
+    }
+}
+
+/// The isotropic level of detail of `footprint` on `mip`: log2 of the longer axis in base
+/// texels. −∞ for a zero footprint, +∞ for a non-finite one.
+pub fn isotropic_lod(mip: &MipMap, footprint: &UvFootprint) -> f32 {
+    let base = mip.level(0);
+    let (dx, dy) = footprint.in_texels(base.width, base.height);
+    let rho = dx.length().max(dy.length());
+    if rho.is_nan() {
+        f32::INFINITY
+    } else {
+        rho.log2()
+    }
+}
+
+/// Filters `mip` at `uv` over `footprint` with `filter`.
+pub fn lookup(mip: &MipMap, uv: Vec2, footprint: &UvFootprint, filter: TextureFilter) -> Vec4 {
+    let base = mip.level(0);
+    match filter {
+        TextureFilter::Nearest => base.nearest(uv, mip.wrap),
+        TextureFilter::Bilinear => base.bilinear(uv, mip.wrap),
+        TextureFilter::Bicubic => base.bicubic(uv, mip.wrap),
+        TextureFilter::Trilinear => trilinear(mip, uv, isotropic_lod(mip, footprint)),
+        TextureFilter::Anisotropic => anisotropic(mip, uv, footprint),
+    }
+}
+
+/// Trilinear interpolation at level of detail `lod` (magnification below 0, the coarsest
+/// level for +∞ or NaN).
+fn trilinear(mip: &MipMap, uv: Vec2, lod: f32) -> Vec4 {
+    let top = (mip.level_count() - 1) as f32;
+    if lod <= 0.0 {
+        return magnify(mip, mip.level(0), uv);
+    }
+    if lod.is_nan() || lod >= top {
+        return mip.level(mip.level_count() - 1).bilinear(uv, mip.wrap);
+    }
+    let l0 = lod.floor();
+    let f = lod - l0;
+    let l0 = l0 as usize;
+    let a = mip.level(l0).bilinear(uv, mip.wrap);
+    let b = mip.level(l0 + 1).bilinear(uv, mip.wrap);
+    a.lerp(b, f)
+}
+
+/// Base-level reconstruction with the sampler's magnification filter.
+#[inline]
+fn magnify(mip: &MipMap, base: &TexelGrid, uv: Vec2) -> Vec4 {
+    match mip.mag_filter {
+        MagFilter::Nearest => base.nearest(uv, mip.wrap),
+        MagFilter::Linear => base.bilinear(uv, mip.wrap),
+    }
+}
+
+/// Probes along the major axis at the minor axis's level of detail.
+fn anisotropic(mip: &MipMap, uv: Vec2, footprint: &UvFootprint) -> Vec4 {
+    let base = mip.level(0);
+    let (dx, dy) = footprint.in_texels(base.width, base.height);
+    let (lx, ly) = (dx.length(), dy.length());
+    if !(lx.is_finite() && ly.is_finite()) {
+        return trilinear(mip, uv, f32::INFINITY);
+    }
+    let (major_uv, major, minor) = if lx >= ly {
+        (footprint.duv_dx, lx, ly)
+    } else {
+        (footprint.duv_dy, ly, lx)
+    };
+    // Cap the eccentricity: widen the minor axis (blur) rather than take more probes.
+    let minor = minor.max(major / MAX_ANISOTROPY);
+    if major <= 1.0 || minor <= 0.0 {
+        // At most one texel along the major axis: the footprint is within the reconstruction
+        // filter's support, so magnification is right.
+        return trilinear(mip, uv, minor.max(major).log2());
+    }
+    let lod = minor.log2();
+    let probes = (major / minor).ceil().clamp(1.0, MAX_ANISOTROPY) as u32;
+    if probes == 1 {
+        return trilinear(mip, uv, lod);
+    }
+    // Probes at the centres of `probes` equal segments of the major axis, which spans
+    // −½ … +½ of the footprint vector (the pixel's extent).
+    let mut sum = Vec4::ZERO;
+    for i in 0..probes {
+        let offset = (i as f32 + 0.5) / probes as f32 - 0.5;
+        sum += trilinear(mip, uv + major_uv * offset, lod);
+    }
+    sum / probes as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::image::Wrap;
+
+    fn checker(n: u32) -> MipMap {
+        let texels = (0..n * n)
+            .map(|i| {
+                if (i % n + i / n).is_multiple_of(2) {
+                    Vec4::ZERO
+                } else {
+                    Vec4::ONE
+                }
+            })
+            .collect();
+        MipMap::from_grid(
+            TexelGrid::new(n, n, texels).unwrap(),
+            Wrap::default(),
+            MagFilter::Linear,
+        )
+    }
+
+    #[test]
+    fn large_footprints_read_the_mean_and_nan_is_contained() {
+        let mip = checker(8);
+        let wide = UvFootprint {
+            duv_dx: Vec2::new(4.0, 0.0),
+            duv_dy: Vec2::new(0.0, 4.0),
+        };
+        for filter in [TextureFilter::Trilinear, TextureFilter::Anisotropic] {
+            let v = lookup(&mip, Vec2::new(0.3, 0.7), &wide, filter);
+            assert!(
+                (v - Vec4::splat(0.5)).abs().max_element() < 1e-6,
+                "{filter:?}: {v}"
+            );
+            let nan = UvFootprint {
+                duv_dx: Vec2::NAN,
+                duv_dy: Vec2::ZERO,
+            };
+            assert!(lookup(&mip, Vec2::new(0.3, 0.7), &nan, filter).is_finite());
+        }
+    }
+}

@@ -1,0 +1,169 @@
+//! One level of a texture: a grid of linear RGBA texels and the reconstruction filters that
+//! read it at a point (nearest, bilinear, bicubic) under glTF's wrap modes.
+//!
+//! Coordinates follow glTF: uv (0, 0) is the top-left corner of the image; texel (i, j) covers
+//! `[i, i+1) × [j, j+1)` after scaling uv by the level's size, so its centre is at
+//! `(i + ½, j + ½)`. The scaling and the split into integer texel and fraction are done in f64,
+//! so that wrapping is exact even far from the origin (u = 10⁶ is as sharp as u = 0).
+
+use crate::scene::WrapMode;
+use glam::{DVec2, Vec2, Vec4};
+
+/// Maps an integer texel coordinate into `[0, size)` under `mode`.
+#[inline]
+pub fn wrap(i: i64, size: u32, mode: WrapMode) -> usize {
+    let n = i64::from(size.max(1));
+    let wrapped = match mode {
+        WrapMode::Repeat => i.rem_euclid(n),
+        WrapMode::MirroredRepeat => {
+            let m = i.rem_euclid(2 * n);
+            if m >= n { 2 * n - 1 - m } else { m }
+        }
+        WrapMode::ClampToEdge => i.clamp(0, n - 1),
+    };
+    // In [0, n) with n ≤ u32::MAX, so it fits a usize.
+    wrapped as usize
+}
+
+/// A texel grid: width × height linear RGBA values, row-major, top row first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TexelGrid {
+    /// Width in texels (≥ 1).
+    pub width: u32,
+    /// Height in texels (≥ 1).
+    pub height: u32,
+    /// `width · height` texels.
+    pub texels: Vec<Vec4>,
+}
+
+/// The wrap modes of a texture's two axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Wrap {
+    /// Horizontal (u, glTF `wrapS`).
+    pub s: WrapMode,
+    /// Vertical (v, glTF `wrapT`).
+    pub t: WrapMode,
+}
+
+/// A texel coordinate split into its integer part and the fraction in [0, 1).
+#[inline]
+fn split(st: f64) -> (i64, f32) {
+    let floor = st.floor();
+    // `as` saturates, so an absurd coordinate clamps instead of wrapping around i64.
+    (floor as i64, (st - floor) as f32)
+}
+
+/// Texel-space position of `uv` on a grid of `width × height` (f64: see the module notes).
+#[inline]
+fn texel_space(uv: Vec2, width: u32, height: u32) -> DVec2 {
+    let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+    uv.as_dvec2() * DVec2::new(f64::from(width), f64::from(height))
+}
+
+impl TexelGrid {
+    /// A grid of `width × height` texels; `None` if the sizes and the texel count disagree
+    /// or a side is zero.
+    pub fn new(width: u32, height: u32, texels: Vec<Vec4>) -> Option<Self> {
+        let ok =
+            width > 0 && height > 0 && texels.len() as u64 == u64::from(width) * u64::from(height);
+        ok.then_some(Self {
+            width,
+            height,
+            texels,
+        })
+    }
+
+    /// Bytes the texels occupy.
+    pub fn bytes(&self) -> usize {
+        self.texels.len() * std::mem::size_of::<Vec4>()
+    }
+
+    /// The texel at integer coordinates, wrapped. White if the grid is shorter than its size
+    /// claims (constructors prevent it).
+    #[inline]
+    pub fn texel(&self, x: i64, y: i64, wrap: Wrap) -> Vec4 {
+        let ix = self::wrap(x, self.width, wrap.s);
+        let iy = self::wrap(y, self.height, wrap.t);
+        self.texels
+            .get(iy * self.width as usize + ix)
+            .copied()
+            .unwrap_or(Vec4::ONE)
+    }
+
+    /// The texel containing `uv`.
+    #[inline]
+    pub fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = texel_space(uv, self.width, self.height);
+        self.texel(split(st.x).0, split(st.y).0, wrap)
+    }
+
+    /// Bilinear interpolation between the four texel centres around `uv`.
+    #[inline]
+    pub fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = texel_space(uv, self.width, self.height) - 0.5;
+        let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
+        let top = self.texel(x, y, wrap).lerp(self.texel(x + 1, y, wrap), fx);
+        let bottom = self
+            .texel(x, y + 1, wrap)
+            .lerp(self.texel(x + 1, y + 1, wrap), fx);
+        top.lerp(bottom, fy)
+    }
+
+    /// Bicubic interpolation (Catmull–Rom, separable, over the 4 × 4 texel centres around
+    /// `uv`). Catmull–Rom interpolates (texel centres are reproduced exactly) and is sharper
+    /// than bilinear; it can overshoot at hard edges, so the result is clamped to the range of
+    /// the 16 texels it read.
+    #[inline]
+    pub fn bicubic(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = texel_space(uv, self.width, self.height) - 0.5;
+        let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
+        let (wx, wy) = (catmull_rom_weights(fx), catmull_rom_weights(fy));
+        let mut sum = Vec4::ZERO;
+        let (mut lo, mut hi) = (Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY));
+        for (j, wyj) in wy.iter().enumerate() {
+            for (i, wxi) in wx.iter().enumerate() {
+                let t = self.texel(x + i as i64 - 1, y + j as i64 - 1, wrap);
+                sum += t * (wxi * wyj);
+                lo = lo.min(t);
+                hi = hi.max(t);
+            }
+        }
+        sum.clamp(lo, hi)
+    }
+}
+
+/// Catmull–Rom weights of the texels at offsets −1, 0, 1, 2 for a fraction `t` in [0, 1).
+/// They sum to 1 for every `t`.
+#[inline]
+fn catmull_rom_weights(t: f32) -> [f32; 4] {
+    let (t2, t3) = (t * t, t * t * t);
+    [
+        0.5 * (-t3 + 2.0 * t2 - t),
+        0.5 * (3.0 * t3 - 5.0 * t2 + 2.0),
+        0.5 * (-3.0 * t3 + 4.0 * t2 + t),
+        0.5 * (t3 - t2),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn catmull_rom_weights_partition_unity_and_interpolate() {
+        for k in 0..=10 {
+            let w = catmull_rom_weights(k as f32 / 10.0);
+            assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-6);
+        }
+        assert_eq!(catmull_rom_weights(0.0), [0.0, 1.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn wrap_modes() {
+        assert_eq!(wrap(-1, 4, WrapMode::Repeat), 3);
+        assert_eq!(wrap(-1, 4, WrapMode::MirroredRepeat), 0);
+        assert_eq!(wrap(5, 4, WrapMode::MirroredRepeat), 2);
+        assert_eq!(wrap(9, 4, WrapMode::ClampToEdge), 3);
+        assert_eq!(wrap(i64::MIN, 4, WrapMode::ClampToEdge), 0);
+    }
+}

@@ -1,0 +1,465 @@
+//! `glint batch` and `glint merge`: sharding, resume, failure isolation, job-file errors, and
+//! partial renders merging into the single-machine image.
+
+use glam::Vec3;
+use glint::accel::{BackendKind, BuildOptions};
+use glint::batch::jobs;
+use glint::render::partial::{merge, render_partial};
+use glint::render::{AovSelection, RenderInputs, RenderSettings, render};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn demo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb")
+}
+
+fn glint(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run glint")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A job file of `2 + 3·2` tiny jobs on the demo scene: two plain jobs and a sweep.
+fn job_file(dir: &Path) -> PathBuf {
+    let text = format!(
+        r#"[defaults]
+scene = "{}"
+width = 16
+height = 12
+spp = 1
+
+[[job]]
+output = "out/plain.png"
+
+[[job]]
+output = "out/placed.exr"
+camera = {{ position = [0, 1, 5], look_at = [0, 0, 0] }}
+
+[[sweep]]
+output = "out/turn-{{frame:02}}-{{spp}}.png"
+spp = [1, 2]
+orbit = {{ frames = 3, center = [0, 0.5, 0], radius = 4, height = 1 }}
+"#,
+        demo().display()
+    );
+    let path = dir.join("jobs.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn report(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// (index, status) of each job in a report.
+fn statuses(report: &serde_json::Value) -> Vec<(u64, String)> {
+    report["jobs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| {
+            (
+                j["index"].as_u64().unwrap(),
+                j["status"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn shards_together_take_every_job_exactly_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let all = jobs::load(&job_file(dir.path())).unwrap();
+    assert_eq!(all.len(), 8);
+    for count in 1..=9u32 {
+        let mut seen = vec![0; all.len()];
+        for index in 0..count {
+            let shard = glint::batch::Shard { index, count };
+            for job in all.iter().filter(|j| shard.takes(j.index)) {
+                seen[job.index] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&n| n == 1), "{count} shards: {seen:?}");
+    }
+}
+
+#[test]
+fn shard_runs_render_every_output_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = job_file(dir.path());
+    let total = jobs::load(&file).unwrap().len();
+    let mut rendered = Vec::new();
+    for i in 0..3 {
+        let name = format!("r{i}.json");
+        let out = glint(
+            &[
+                "batch",
+                "jobs.toml",
+                "--shard",
+                &format!("{i}/3"),
+                "--report",
+                &name,
+                "-q",
+            ],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        for (index, status) in statuses(&report(&dir.path().join(&name))) {
+            assert_eq!(status, "rendered");
+            assert_eq!(index % 3, i, "job {index} in shard {i}/3");
+            rendered.push(index);
+        }
+    }
+    rendered.sort();
+    assert_eq!(rendered, (0..total as u64).collect::<Vec<_>>());
+    for job in jobs::load(&file).unwrap() {
+        assert!(job.output().is_file(), "{} missing", job.output().display());
+    }
+}
+
+#[test]
+fn resume_skips_complete_outputs_and_renders_the_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = job_file(dir.path());
+    let first = glint(&["batch", "jobs.toml", "-q"], dir.path());
+    assert!(first.status.success(), "{}", stderr(&first));
+    let all = jobs::load(&file).unwrap();
+    let bytes = |p: &Path| std::fs::read(p).unwrap();
+    let before: Vec<Vec<u8>> = all.iter().map(|j| bytes(j.output())).collect();
+
+    // What a batch killed midway leaves: job 1's output not yet written and the temporary
+    // file of its unfinished write; plus job 2's output replaced by a foreign, truncated file.
+    std::fs::remove_file(all[1].output()).unwrap();
+    let out_dir = all[1].output().parent().unwrap();
+    std::fs::write(out_dir.join(".placed.exr.abc123.tmp"), b"half").unwrap();
+    std::fs::write(all[2].output(), &before[2][..before[2].len() / 2]).unwrap();
+
+    let second = glint(
+        &["batch", "jobs.toml", "--report", "r.json", "-q"],
+        dir.path(),
+    );
+    assert!(second.status.success(), "{}", stderr(&second));
+    let status = statuses(&report(&dir.path().join("r.json")));
+    for (index, s) in &status {
+        let expected = if [1, 2].contains(index) {
+            "rendered"
+        } else {
+            "skipped"
+        };
+        assert_eq!(s, expected, "job {index}");
+    }
+    for (job, old) in all.iter().zip(&before) {
+        // Renders are deterministic, so re-rendered outputs equal the first run's too.
+        assert_eq!(&bytes(job.output()), old, "{}", job.output().display());
+    }
+
+    let forced = glint(
+        &["batch", "jobs.toml", "--force", "--report", "f.json", "-q"],
+        dir.path(),
+    );
+    assert!(forced.status.success());
+    let status = statuses(&report(&dir.path().join("f.json")));
+    assert!(status.iter().all(|(_, s)| s == "rendered"), "{status:?}");
+}
+
+#[test]
+fn a_broken_job_fails_alone_and_the_exit_status_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        r#"[defaults]
+width = 16
+height = 12
+spp = 1
+[[job]]
+scene = "{demo}"
+output = "good-1.png"
+[[job]]
+scene = "no-such-scene.glb"
+output = "bad.png"
+[[job]]
+scene = "{demo}"
+output = "good-2.png"
+"#,
+        demo = demo().display()
+    );
+    std::fs::write(dir.path().join("jobs.toml"), text).unwrap();
+    let out = glint(
+        &["batch", "jobs.toml", "--report", "r.json", "-q"],
+        dir.path(),
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("no-such-scene.glb"),
+        "{}",
+        stderr(&out)
+    );
+    let report = report(&dir.path().join("r.json"));
+    assert_eq!(
+        statuses(&report),
+        [
+            (0, "rendered".to_string()),
+            (1, "failed".to_string()),
+            (2, "rendered".to_string())
+        ]
+    );
+    let error = report["jobs"][1]["error"].as_str().unwrap();
+    assert!(error.contains("no-such-scene.glb"), "{error}");
+    assert_eq!(report["failed"], 1);
+    assert!(report["jobs"][0]["rays"].as_u64().unwrap() > 0);
+    assert!(dir.path().join("good-1.png").is_file() && dir.path().join("good-2.png").is_file());
+    assert!(!dir.path().join("bad.png").exists());
+}
+
+/// The error for a job file, which must name the file, the job and the key.
+fn job_file_error(body: &str) -> String {
+    let path = Path::new("/somewhere/jobs.toml");
+    jobs::parse(body, path).unwrap_err().to_string()
+}
+
+#[test]
+fn bad_job_files_name_the_file_the_job_and_the_key() {
+    let cases = [
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\n[[job]]\nscene = \"a.glb\"\noutput = \"b.png\"\nspeed = 3",
+            ["[[job]] 1", "\"speed\"", "unknown key"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\nspp = \"many\"",
+            ["[[job]] 0", "\"spp\"", "many"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\nphotometric = 1",
+            ["[[job]] 0", "\"photometric\"", "true or false"],
+        ),
+        (
+            "[defaults]\nspp = 2\n[[job]]\noutput = \"a.png\"",
+            ["[[job]] 0", "\"scene\"", "missing"],
+        ),
+        (
+            "[[job]]\nscene = 4\noutput = \"a.png\"",
+            ["[[job]] 0", "\"scene\"", "integer"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\ncamera = { position = [0, 0, 1] }",
+            ["[[job]] 0", "\"camera\"", "look_at"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\n[[job]]\nscene = \"b.glb\"\noutput = \"a.png\"",
+            ["[[job]] 1", "a.png", "[[job]] 0"],
+        ),
+        (
+            "[[sweep]]\nscene = \"a.glb\"\noutput = \"a.png\"\nseed = [1, 2]",
+            ["[[sweep]] 0", "{seed}", "a.png"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = ",
+            ["TOML", "line", ""],
+        ),
+    ];
+    for (body, needles) in cases {
+        let message = job_file_error(body);
+        assert!(message.contains("/somewhere/jobs.toml"), "{message}");
+        for needle in needles {
+            assert!(message.contains(needle), "'{needle}' not in: {message}");
+        }
+    }
+    // Relative paths are taken from the job file's folder.
+    let ok = jobs::parse(
+        "[[job]]\nscene = \"s/a.glb\"\noutput = \"o/a.png\"\nlights = \"l.txt\"",
+        Path::new("/somewhere/jobs.toml"),
+    )
+    .unwrap();
+    assert_eq!(ok[0].scene(), Path::new("/somewhere/s/a.glb"));
+    assert_eq!(ok[0].output(), Path::new("/somewhere/o/a.png"));
+    assert_eq!(
+        ok[0].args.lights_file.as_deref(),
+        Some(Path::new("/somewhere/l.txt"))
+    );
+}
+
+#[test]
+fn an_unusable_job_file_fails_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("jobs.toml"),
+        format!(
+            "[[job]]\nscene = \"{}\"\noutput = \"a.png\"\n[[job]]\nscene = \"x.glb\"\noutput = \"b.png\"\nspp = -1",
+            demo().display()
+        ),
+    )
+    .unwrap();
+    let out = glint(&["batch", "jobs.toml"], dir.path());
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("[[job]] 1"), "{}", stderr(&out));
+    assert!(!dir.path().join("a.png").exists(), "nothing renders");
+}
+
+/// Largest |a − b| / (|b| + 1e-6) over all components.
+fn max_relative_difference(a: &[Vec3], b: &[Vec3]) -> f32 {
+    a.iter()
+        .zip(b)
+        .flat_map(|(a, b)| (0..3).map(move |i| (a[i] - b[i]).abs() / (b[i].abs() + 1e-6)))
+        .fold(0.0, f32::max)
+}
+
+/// The stated tolerance: the full render adds each pixel's contributions one at a time in
+/// f32, the merge adds per-part f32 sums in f64, so they differ by rounding only: at most
+/// γ(n)·Σ for n additions (n ≤ spp · (1 + lights · (1 + bounces)) here, well under 100), a
+/// relative 100 · 2⁻²⁴ ≈ 6e-6. We allow 1e-5.
+const MERGE_TOLERANCE: f32 = 1e-5;
+
+#[test]
+fn merged_parts_equal_the_single_render_with_the_same_seed() {
+    let mut scene = glint::scene::gltf::load(&demo()).unwrap();
+    let camera = glint::scene::defaults::default_camera(&scene);
+    if scene.lights.is_empty() {
+        scene.lights = glint::scene::defaults::default_lights(&scene, &camera);
+    }
+    let accel =
+        glint::render::prepare(&scene, BackendKind::default(), BuildOptions::default()).unwrap();
+    let settings = RenderSettings {
+        width: 40,
+        height: 30,
+        spp: 6,
+        seed: 11,
+        aovs: AovSelection {
+            albedo: true,
+            normal: false,
+            depth: true,
+        },
+        ..RenderSettings::default()
+    };
+    let single = render(&scene, accel.as_ref(), &camera, &settings, None).unwrap();
+    let inputs = RenderInputs {
+        scene: &scene,
+        lights: &scene.lights,
+        accel: accel.as_ref(),
+        camera: &camera,
+        pool: None,
+    };
+    let part = |r: std::ops::Range<u32>| render_partial(&inputs, &settings, r, None).unwrap().0;
+    // Given out of order: the merge sorts by sample range.
+    let parts = [part(5..6), part(0..2), part(2..5)];
+    let (image, aovs) = merge(&parts).unwrap();
+    let diff = max_relative_difference(&image.pixels, &single.image.pixels);
+    assert!(diff <= MERGE_TOLERANCE, "radiance differs by {diff}");
+    let albedo = max_relative_difference(
+        &aovs.albedo.unwrap().pixels,
+        &single.aovs.albedo.unwrap().pixels,
+    );
+    assert!(albedo <= MERGE_TOLERANCE, "albedo differs by {albedo}");
+    let depth_single = single.aovs.depth.unwrap().pixels;
+    for (m, s) in aovs.depth.unwrap().pixels.iter().zip(&depth_single) {
+        assert!(
+            (m - s).abs() <= MERGE_TOLERANCE * (s.abs() + 1e-6),
+            "{m} vs {s}"
+        );
+    }
+    // The parts are not interchangeable with another seed's: the test can fail.
+    let other = render(
+        &scene,
+        accel.as_ref(),
+        &camera,
+        &RenderSettings {
+            seed: 12,
+            ..settings
+        },
+        None,
+    )
+    .unwrap();
+    assert!(max_relative_difference(&image.pixels, &other.image.pixels) > 1e-3);
+    // Missing samples are an error, not a darker image.
+    assert!(merge(&parts[..2]).is_err());
+}
+
+#[test]
+fn render_shards_merge_through_files_into_the_full_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = demo().display().to_string();
+    let common = [
+        "render", &scene, "--width", "24", "--height", "16", "--spp", "5", "--seed", "3", "-q",
+    ];
+    let run = |extra: &[&str]| {
+        let args: Vec<&str> = common.iter().chain(extra).copied().collect();
+        let out = glint(&args, dir.path());
+        assert!(out.status.success(), "{}", stderr(&out));
+    };
+    run(&["-o", "full.exr"]);
+    run(&["--shard", "0/2", "-o", "p0.exr"]);
+    run(&["--shard", "1/2", "-o", "p1.exr"]);
+    let png_part = glint(
+        &[common.as_slice(), &["--shard", "0/2", "-o", "p.png"]].concat(),
+        dir.path(),
+    );
+    assert!(!png_part.status.success(), "a partial render needs EXR");
+    let merged = glint(
+        &["merge", "p1.exr", "p0.exr", "-o", "merged.exr", "-q"],
+        dir.path(),
+    );
+    assert!(merged.status.success(), "{}", stderr(&merged));
+    let read = |name: &str| -> Vec<Vec3> {
+        let image = exr::prelude::read_first_rgba_layer_from_file(
+            dir.path().join(name),
+            |size, _| vec![Vec3::ZERO; size.width() * size.height()],
+            |pixels, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                pixels[pos.y() * 24 + pos.x()] = Vec3::new(r, g, b);
+            },
+        )
+        .unwrap();
+        image.layer_data.channel_data.pixels
+    };
+    let diff = max_relative_difference(&read("merged.exr"), &read("full.exr"));
+    assert!(diff <= MERGE_TOLERANCE, "merged differs by {diff}");
+    let incomplete = glint(&["merge", "p1.exr", "-o", "bad.exr"], dir.path());
+    assert!(!incomplete.status.success());
+    assert!(
+        stderr(&incomplete).contains("--sample-range 0..2"),
+        "{}",
+        stderr(&incomplete)
+    );
+    assert!(!dir.path().join("bad.exr").exists());
+}
+
+#[test]
+fn jobs_sharing_a_scene_match_separate_renders() {
+    // One batch job and the same settings through `glint render` give the same file: the
+    // shared load, pool and lights change nothing.
+    let dir = tempfile::tempdir().unwrap();
+    job_file(dir.path());
+    let out = glint(&["batch", "jobs.toml", "-q"], dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let scene = demo().display().to_string();
+    let single = glint(
+        &[
+            "render",
+            &scene,
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--spp",
+            "1",
+            "-o",
+            "single.png",
+            "-q",
+        ],
+        dir.path(),
+    );
+    assert!(single.status.success());
+    let a = std::fs::read(dir.path().join("single.png")).unwrap();
+    let b = std::fs::read(dir.path().join("out/plain.png")).unwrap();
+    assert_eq!(a, b);
+    let names: BTreeSet<String> = std::fs::read_dir(dir.path().join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+    assert_eq!(names.len(), 8);
+}

@@ -1,0 +1,350 @@
+//! Mirrors and emission against closed forms, on every backend: a floor mirror in front of a
+//! lit diffuse wall shows the wall's radiance times its reflectance; --max-depth 0 and 1; an
+//! emitter seen directly shows Le and in the mirror R·Le. Also: the specialised kernel gives
+//! the general kernel's image.
+
+mod render_support;
+
+use glam::{DVec3, Vec2, Vec3, Vec4};
+use glint::accel::{BackendKind, Ray};
+use glint::render::{KernelChoice, RenderOutput, RenderSettings};
+use glint::scene::{Camera, Light, MagFilter, Material, Scene, Texture, TextureRef, WrapMode};
+use render_support::*;
+use std::f64::consts::PI;
+
+const TOL: f64 = 1e-4;
+const EDGE: f64 = 1e-3;
+const R_MIRROR: Vec3 = Vec3::new(0.9, 0.6, 0.3);
+const RHO_WALL: Vec3 = Vec3::new(0.5, 0.7, 0.8);
+const E_WALL: Vec3 = Vec3::new(3.0, 2.0, 1.0);
+const E_FLOOR: Vec3 = Vec3::new(1.0, 1.5, 2.0);
+
+fn floor_quad() -> ExactQuad {
+    ExactQuad::new(
+        Vec3::ZERO,
+        Vec3::new(3.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, -3.0),
+    )
+}
+
+fn wall_quad() -> ExactQuad {
+    ExactQuad::new(
+        Vec3::new(0.0, 2.0, -3.0),
+        Vec3::new(3.0, 0.0, 0.0),
+        Vec3::new(0.0, 2.0, 0.0),
+    )
+}
+
+fn mesh_of(q: ExactQuad, material: usize) -> glint::scene::Mesh {
+    quad(q.center.as_vec3(), q.u.as_vec3(), q.v.as_vec3(), material)
+}
+
+/// A floor mirror (material 0) facing +Y and a wall (material 1) facing the camera (+Z).
+fn room(floor: Material, wall: Material, lights: Vec<Light>) -> (Scene, Camera) {
+    let scene = scene(
+        vec![mesh_of(floor_quad(), 0), mesh_of(wall_quad(), 1)],
+        vec![floor, wall],
+        lights,
+    );
+    let camera = look_at(
+        Vec3::new(0.0, 1.5, 4.0),
+        Vec3::new(0.0, 0.6, -3.0),
+        Vec3::Y,
+        0.9,
+    );
+    (scene, camera)
+}
+
+/// A directional light onto the wall (the floor sees it edge-on) and one onto the floor (the
+/// wall sees it edge-on): neither shadows the other surface.
+fn lights() -> Vec<Light> {
+    vec![
+        Light::Directional {
+            direction: -Vec3::Z,
+            irradiance: E_WALL,
+        },
+        Light::Directional {
+            direction: -Vec3::Y,
+            irradiance: E_FLOOR,
+        },
+    ]
+}
+
+/// What a camera ray sees first.
+enum Seen {
+    Wall,
+    /// The floor, and where its mirror reflection goes: Some(true) to the wall, Some(false)
+    /// away from it, None too close to the wall's edge to tell.
+    Floor(Option<bool>),
+    Nothing,
+    Ambiguous,
+}
+
+fn trace(ray: &Ray) -> Seen {
+    let (floor, wall) = (floor_quad(), wall_quad());
+    if floor.near_edge(ray, EDGE) || wall.near_edge(ray, EDGE) {
+        return Seen::Ambiguous;
+    }
+    match (floor.hit(ray, EDGE), wall.hit(ray, EDGE)) {
+        (Some((tf, _)), Some((tw, _))) if tw < tf => Seen::Wall,
+        (None, Some(_)) => Seen::Wall,
+        (Some((_, p)), _) => {
+            let d = ray.dir.as_dvec3();
+            let reflected = Ray::new(p.as_vec3(), Vec3::new(d.x as f32, -d.y as f32, d.z as f32));
+            if wall.near_edge(&reflected, 10.0 * EDGE) {
+                Seen::Floor(None)
+            } else {
+                Seen::Floor(Some(wall.hit(&reflected, 10.0 * EDGE).is_some()))
+            }
+        }
+        (None, None) => Seen::Nothing,
+    }
+}
+
+/// Checks every unambiguous pixel: wall pixels against `wall`, floor pixels against
+/// `floor(reflects_wall)`, others 0. Returns (wall pixels, floor pixels seeing the wall).
+fn check(
+    out: &RenderOutput,
+    camera: &Camera,
+    label: &str,
+    wall: DVec3,
+    floor: impl Fn(bool) -> DVec3,
+) -> (usize, usize) {
+    let (w, h) = (out.image.width, out.image.height);
+    let (mut walls, mut reflections) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let want = match trace(&centre_ray(camera, w, h, x, y)) {
+                Seen::Wall => {
+                    walls += 1;
+                    wall
+                }
+                Seen::Floor(Some(sees_wall)) => {
+                    reflections += sees_wall as usize;
+                    floor(sees_wall)
+                }
+                Seen::Nothing => DVec3::ZERO,
+                Seen::Floor(None) | Seen::Ambiguous => continue,
+            };
+            let got = out.image.get(x, y).unwrap();
+            assert!(
+                close(got, want, TOL),
+                "{label}: pixel ({x}, {y}) = {got}, closed form {want}"
+            );
+        }
+    }
+    (walls, reflections)
+}
+
+fn settings(max_depth: u32) -> RenderSettings {
+    RenderSettings {
+        max_depth,
+        ..centre_settings(64, 48)
+    }
+}
+
+fn wall_radiance() -> DVec3 {
+    RHO_WALL.as_dvec3() / PI * E_WALL.as_dvec3()
+}
+
+#[test]
+fn mirror_shows_the_lit_plane_times_its_reflectance() {
+    for &backend in BackendKind::available() {
+        let (scene, camera) = room(mirror(R_MIRROR, 1.0), lambert(RHO_WALL, false), lights());
+        let out = render_with(&scene, &camera, backend, &settings(8));
+        let reflected = R_MIRROR.as_dvec3() * wall_radiance();
+        let (walls, reflections) = check(&out, &camera, backend.name(), wall_radiance(), |sees| {
+            if sees { reflected } else { DVec3::ZERO }
+        });
+        assert!(
+            walls > 300 && reflections > 300,
+            "{walls} wall, {reflections} mirror pixels"
+        );
+    }
+}
+
+#[test]
+fn partly_metallic_mirror_adds_its_diffuse_part() {
+    let metallic = 0.6;
+    for &backend in BackendKind::available() {
+        let (scene, camera) = room(
+            mirror(R_MIRROR, metallic),
+            lambert(RHO_WALL, false),
+            lights(),
+        );
+        let out = render_with(&scene, &camera, backend, &settings(8));
+        let rho = R_MIRROR.as_dvec3();
+        let diffuse = rho * (1.0 - metallic as f64) / PI * E_FLOOR.as_dvec3();
+        let specular = rho * metallic as f64 * wall_radiance();
+        check(&out, &camera, backend.name(), wall_radiance(), |sees| {
+            diffuse + if sees { specular } else { DVec3::ZERO }
+        });
+    }
+}
+
+#[test]
+fn max_depth_zero_traces_no_reflection_and_one_traces_one() {
+    for &backend in BackendKind::available() {
+        let (scene, camera) = room(mirror(R_MIRROR, 1.0), lambert(RHO_WALL, false), lights());
+        let depth0 = render_with(&scene, &camera, backend, &settings(0));
+        let (_, reflections) = check(&depth0, &camera, "max-depth 0", wall_radiance(), |_| {
+            DVec3::ZERO
+        });
+        assert!(reflections > 300);
+        assert_eq!(depth0.stats.rays.reflection, 0);
+
+        let depth1 = render_with(&scene, &camera, backend, &settings(1));
+        let reflected = R_MIRROR.as_dvec3() * wall_radiance();
+        check(&depth1, &camera, "max-depth 1", wall_radiance(), |sees| {
+            if sees { reflected } else { DVec3::ZERO }
+        });
+        // One reflection ray per pixel that sees the mirror, and no second bounce.
+        let mirror_pixels = (0..depth1.image.pixels.len())
+            .filter(|&i| {
+                let (x, y) = (i as u32 % 64, i as u32 / 64);
+                floor_quad()
+                    .hit(&centre_ray(&camera, 64, 48, x, y), 0.0)
+                    .is_some()
+                    && wall_quad()
+                        .hit(&centre_ray(&camera, 64, 48, x, y), 0.0)
+                        .is_none()
+            })
+            .count() as u64;
+        let traced = depth1.stats.rays.reflection;
+        assert!(
+            traced.abs_diff(mirror_pixels) <= 8,
+            "{traced} vs {mirror_pixels}"
+        );
+    }
+}
+
+#[test]
+fn emission_seen_directly_and_in_a_mirror() {
+    let le = Vec3::new(2.0, 5.0, 0.5);
+    for &backend in BackendKind::available() {
+        let (scene, camera) = room(mirror(R_MIRROR, 1.0), emitter(le), vec![]);
+        let out = render_with(&scene, &camera, backend, &settings(8));
+        let reflected = R_MIRROR.as_dvec3() * le.as_dvec3();
+        let (walls, reflections) = check(&out, &camera, "emission", le.as_dvec3(), |sees| {
+            if sees { reflected } else { DVec3::ZERO }
+        });
+        assert!(walls > 300 && reflections > 300);
+        assert_eq!(out.stats.rays.shadow, 0, "no lights, no shadow rays");
+    }
+}
+
+/// A scene that uses every feature: textures, vertex colours and normals, mirrors, emission,
+/// point / spot / directional lights with and without range.
+fn everything_scene() -> (Scene, Camera) {
+    let texture = Texture {
+        name: "checker".into(),
+        width: 2,
+        height: 2,
+        texels: vec![
+            Vec4::new(1.0, 0.2, 0.2, 1.0),
+            Vec4::new(0.2, 1.0, 0.2, 1.0),
+            Vec4::new(0.2, 0.2, 1.0, 1.0),
+            Vec4::ONE,
+        ],
+        wrap_s: WrapMode::Repeat,
+        wrap_t: WrapMode::MirroredRepeat,
+        mag_filter: MagFilter::Linear,
+    };
+    let textured = Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            texcoord: 0,
+            transform: glam::Affine2::from_scale(Vec2::splat(3.0)),
+        }),
+        emissive: Vec3::splat(0.05),
+        ..lambert(Vec3::new(0.9, 0.8, 0.7), true)
+    };
+    let (scene, camera) = room(mirror(R_MIRROR, 0.7), textured, vec![]);
+    let mut scene = scene;
+    let wall = &mut scene.meshes[1];
+    wall.texcoords[0] = Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]);
+    wall.colors = Some(vec![
+        Vec4::ONE,
+        Vec4::new(1.0, 0.5, 0.5, 1.0),
+        Vec4::ONE,
+        Vec4::splat(0.5),
+    ]);
+    wall.normals = Some(vec![
+        Vec3::new(0.1, 0.0, 1.0).normalize(),
+        Vec3::Z,
+        Vec3::new(-0.1, 0.1, 1.0).normalize(),
+        Vec3::Z,
+    ]);
+    scene.textures.push(texture);
+    scene.lights = vec![
+        Light::Point {
+            position: Vec3::new(1.0, 2.0, 1.0),
+            intensity: Vec3::splat(5.0),
+            range: None,
+        },
+        Light::Spot {
+            position: Vec3::new(-1.0, 3.0, 0.0),
+            direction: Vec3::new(0.2, -1.0, -0.5).normalize(),
+            intensity: Vec3::new(20.0, 10.0, 5.0),
+            range: Some(6.0),
+            cos_inner: 0.9,
+            cos_outer: 0.7,
+        },
+        Light::Point {
+            position: Vec3::new(0.0, 0.5, -1.0),
+            intensity: Vec3::splat(2.0),
+            range: Some(2.5),
+        },
+        Light::Spot {
+            position: Vec3::new(2.0, 1.0, 2.0),
+            direction: Vec3::new(-0.5, -0.2, -1.0).normalize(),
+            intensity: Vec3::splat(8.0),
+            range: None,
+            cos_inner: 0.95,
+            cos_outer: 0.8,
+        },
+        Light::Directional {
+            direction: Vec3::new(0.3, -1.0, -0.4).normalize(),
+            irradiance: Vec3::splat(0.7),
+        },
+    ];
+    (scene, camera)
+}
+
+#[test]
+fn specialised_kernel_matches_the_general_one() {
+    let (scene, camera) = everything_scene();
+    let (walls_only, _) = room(lambert(R_MIRROR, false), lambert(RHO_WALL, false), lights());
+    for &backend in BackendKind::available() {
+        for test_scene in [&scene, &walls_only] {
+            let mut settings = RenderSettings {
+                spp: 4,
+                seed: 7,
+                ..settings(8)
+            };
+            let specialised = render_with(test_scene, &camera, backend, &settings);
+            settings.kernel = KernelChoice::General;
+            let general = render_with(test_scene, &camera, backend, &settings);
+            assert!(!general.stats.kernel.typed_lights && specialised.stats.kernel.typed_lights);
+            assert!(specialised.image.pixels.iter().any(|p| *p != Vec3::ZERO));
+            for (i, (s, g)) in specialised
+                .image
+                .pixels
+                .iter()
+                .zip(&general.image.pixels)
+                .enumerate()
+            {
+                // Lights are summed in another order: equal up to rounding.
+                assert!(
+                    close(*s, g.as_dvec3(), 1e-5),
+                    "{backend}: pixel {i}: {s} vs {g}"
+                );
+            }
+            assert_eq!(specialised.stats.rays, general.stats.rays);
+        }
+    }
+    // The simple scene really was rendered by a reduced kernel.
+    let features = glint::scene::SceneFeatures::of(&walls_only);
+    let flags = glint::render::KernelFlags::for_scene(&features, KernelChoice::Specialised);
+    assert!(!flags.textures && !flags.mirrors && !flags.vertex_colors && !flags.shading_normals);
+}
