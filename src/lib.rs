@@ -8,6 +8,7 @@
 #[allow(unsafe_code)]
 pub mod accel;
 pub mod cli;
+pub mod converge;
 pub mod geometry;
 pub mod light;
 pub mod material;

@@ -18,6 +18,8 @@ enum Command {
     /// Measure ray throughput and build times.
     #[command(subcommand)]
     Bench(glint::cli::bench::BenchCommand),
+    /// Measure error against a reference as samples grow, per backend, sampler and filter.
+    Converge(glint::cli::converge::ConvergeArgs),
 }
 
 fn main() -> ExitCode {
@@ -25,6 +27,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => glint::cli::render::run(args),
         Command::Bench(cmd) => glint::cli::bench::run(cmd),
+        Command::Converge(args) => glint::cli::converge::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod bench_render;
+pub mod converge;
 pub mod render;
 
 /// An error a subcommand reports to the user: one line, already carrying its context.

@@ -88,6 +88,24 @@ pub struct RenderArgs {
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Pixel filter, NAME[:RADIUS_PX]: box (0.5), tent (1), gaussian (1.5), mitchell (2),
+    /// blackman-harris (2).
+    #[arg(long, default_value = "box")]
+    pub filter: render::FilterSpec,
+    /// Sample sequence: sobol, stratified, independent or center.
+    #[arg(long, default_value = "sobol")]
+    pub sampler: render::PixelSampling,
+    /// Render passes until this many seconds of rendering are spent (progressive; --spp is
+    /// then ignored).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_budget: Option<f64>,
+    /// Render passes until the estimated relative RMS error falls to E (e.g. 0.02), or the
+    /// time budget or --max-spp is reached.
+    #[arg(long, value_name = "E")]
+    pub target_error: Option<f64>,
+    /// Sample cap of a progressive render.
+    #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
+    pub max_spp: u32,
 }
 
 /// Runs `glint render`.
@@ -137,14 +155,37 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         // add_lights already converted photometric lights (and only those: glint's default
         // lights are radiometric).
         light_units: LightUnits::Radiometric,
+        filter: args.filter,
+        sampling: args.sampler,
         ..RenderSettings::default()
     };
 
     let bar = DelayedProgress::new(args.quiet);
     let report = |done: usize, total: usize| bar.update(done, total);
-    let result = render::render(&scene, accel.as_ref(), &camera, &settings, Some(&report));
-    bar.finish();
-    let out = result.map_err(|e| CliError(format!("{label}: {e}")))?;
+    let progressive = args.time_budget.is_some() || args.target_error.is_some();
+    let (out, spp, stop) = if progressive {
+        let rule = stop_rule(&args)?;
+        let result = render::render_progressive(
+            &scene,
+            accel.as_ref(),
+            &camera,
+            &settings,
+            &rule,
+            None,
+        );
+        bar.finish();
+        let p = result.map_err(|e| CliError(format!("{label}: {e}")))?;
+        let stop = format!(
+            "; stopped after {} passes ({:?}), estimated relative error {:.4}",
+            p.passes, p.reason, p.relative_error
+        );
+        (p.output, p.spp, stop)
+    } else {
+        let result = render::render(&scene, accel.as_ref(), &camera, &settings, Some(&report));
+        bar.finish();
+        let out = result.map_err(|e| CliError(format!("{label}: {e}")))?;
+        (out, args.spp, String::new())
+    };
 
     match format {
         OutputFormat::Png => write_png(
@@ -164,13 +205,39 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     .map_err(CliError::from_display)?;
 
     say(format!(
-        "wrote {} ({width}×{height}, {} spp, {}): {}",
+        "wrote {} ({width}×{height}, {spp} spp, {}, {} sampler, {} filter): {}{stop}",
         output.display(),
-        args.spp,
         args.backend,
+        args.sampler,
+        args.filter,
         out.stats.summary()
     ));
     Ok(())
+}
+
+/// The progressive stop rule from `--time-budget`, `--target-error` and `--max-spp`.
+fn stop_rule(args: &RenderArgs) -> Result<render::StopRule, CliError> {
+    let time_budget = match args.time_budget {
+        Some(t) if t > 0.0 && t.is_finite() && t < 1e9 => Some(Duration::from_secs_f64(t)),
+        Some(t) => {
+            return Err(CliError(format!(
+                "--time-budget {t}: give a positive number of seconds"
+            )));
+        }
+        None => None,
+    };
+    if let Some(e) = args.target_error
+        && !(e > 0.0 && e.is_finite())
+    {
+        return Err(CliError(format!(
+            "--target-error {e}: give a positive relative error, e.g. 0.02 for 2%"
+        )));
+    }
+    Ok(render::StopRule {
+        time_budget,
+        target_error: args.target_error,
+        max_spp: args.max_spp,
+    })
 }
 
 /// The output path: `-o`, or a default from the scene's name.

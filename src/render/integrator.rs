@@ -14,6 +14,7 @@
 
 use super::camera::CameraRays;
 use super::film::{AovSelection, TileSums};
+use super::filter::FilterSampler;
 use super::sampler::PixelSampler;
 use super::stats::RayCounts;
 use super::tiles::Tile;
@@ -30,10 +31,15 @@ pub(crate) struct TileContext<'a> {
     pub accel: &'a dyn Accel,
     pub camera: CameraRays,
     pub sampler: PixelSampler,
+    /// Turns the sampler's point into a film offset and a filter weight.
+    pub filter: FilterSampler,
+    /// First sample index of this pass (progressive rendering renders several passes).
+    pub first_sample: u32,
     pub materials: Vec<ShadingMaterial>,
     pub lights: LightSet,
     /// Loop over per-type light lists (specialised) or the run-time typed list (general).
     pub typed_lights: bool,
+    /// Samples per pixel in this pass.
     pub spp: u32,
     pub max_depth: u32,
     pub aovs: AovSelection,
@@ -43,7 +49,10 @@ pub(crate) struct TileContext<'a> {
 #[derive(Clone, Copy, Debug)]
 struct PathVertex {
     pixel: u32,
+    /// Includes the sample's filter weight.
     throughput: Vec3,
+    /// The sample's filter weight (AOVs are weighted by it too).
+    filter_weight: f32,
 }
 
 /// A diffuse hit waiting for its lights.
@@ -70,6 +79,8 @@ pub(crate) struct Scratch {
     shadow_rays: Vec<Ray>,
     shadow_values: Vec<(u32, Vec3)>,
     occluded: Vec<bool>,
+    /// Filter weight of each tile pixel's sample in flight.
+    weights: Vec<f32>,
 }
 
 /// Renders one tile: all samples of all its pixels. The const switches remove per-hit work
@@ -86,17 +97,23 @@ pub(crate) fn render_tile<
 ) -> (TileSums, RayCounts) {
     let mut sums = TileSums::new(tile.pixel_count(), ctx.aovs);
     let mut counts = RayCounts::default();
-    for sample in 0..ctx.spp {
+    for sample in ctx.first_sample..ctx.first_sample.saturating_add(ctx.spp) {
         s.rays.clear();
         s.paths.clear();
+        s.weights.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
-            let offset = ctx.sampler.offset(x, y, sample);
-            s.rays
-                .push(ctx.camera.ray(x as f32 + offset.x, y as f32 + offset.y));
+            // Offsets are from the pixel centre and may leave the pixel (wide filters).
+            let (offset, weight) = ctx.filter.sample(ctx.sampler.offset(x, y, sample));
+            s.rays.push(
+                ctx.camera
+                    .ray(x as f32 + 0.5 + offset.x, y as f32 + 0.5 + offset.y),
+            );
+            s.weights.push(weight);
             s.paths.push(PathVertex {
                 pixel: local as u32,
-                throughput: Vec3::ONE,
+                throughput: Vec3::splat(weight),
+                filter_weight: weight,
             });
         }
         let mut depth = 0;
@@ -166,7 +183,7 @@ pub(crate) fn render_tile<
                 counts.shadow += s.shadow_rays.len() as u64;
                 for (&(pixel, value), &blocked) in s.shadow_values.iter().zip(&s.occluded) {
                     if !blocked {
-                        sums.radiance[pixel as usize] += value;
+                        sums.pending[pixel as usize] += value;
                     }
                 }
             }
@@ -175,6 +192,7 @@ pub(crate) fn render_tile<
             std::mem::swap(&mut s.paths, &mut s.next_paths);
             depth += 1;
         }
+        sums.end_sample(sample, &s.weights);
     }
     (sums, counts)
 }
@@ -223,21 +241,22 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
 
     let pixel = path.pixel as usize;
     if primary {
+        let w = path.filter_weight;
         if let Some(a) = sums.albedo.get_mut(pixel) {
-            *a += if lit { albedo } else { Vec3::ZERO };
+            *a += if lit { w * albedo } else { Vec3::ZERO };
         }
         if let Some(n) = sums.normal.get_mut(pixel) {
-            *n += si.ns;
+            *n += w * si.ns;
         }
         if let Some(d) = sums.depth.get_mut(pixel) {
             // Camera ray directions are unit, so t is the distance.
-            *d += hit.t;
+            *d += w * hit.t;
         }
     }
     if !lit {
         return;
     }
-    sums.radiance[pixel] += path.throughput * emission;
+    sums.pending[pixel] += path.throughput * emission;
 
     let weight = path.throughput
         * Lambert {
@@ -262,6 +281,7 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
             next_paths.push(PathVertex {
                 pixel: path.pixel,
                 throughput,
+                filter_weight: path.filter_weight,
             });
         }
     }

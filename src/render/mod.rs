@@ -11,27 +11,26 @@
 
 pub mod camera;
 pub mod film;
+pub mod filter;
 pub(crate) mod integrator;
 pub mod kernel;
+pub mod progressive;
 pub mod sampler;
 pub mod stats;
 pub mod tiles;
 
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};
+pub use filter::{FilterKind, FilterSpec};
 pub use kernel::{KernelChoice, KernelFlags};
+pub use progressive::{PassRenderer, ProgressiveOutput, StopReason, StopRule, render_progressive};
 pub use sampler::{PixelSampler, PixelSampling};
 pub use stats::{RayCounts, RenderStats};
 
 use crate::accel::{Accel, AccelError, BackendKind, BuildOptions};
-use crate::light::{LightError, LightSet, LightUnits};
-use crate::material::ShadingMaterial;
-use crate::scene::{Camera, Scene, SceneFeatures};
+use crate::light::{LightError, LightUnits};
+use crate::scene::{Camera, Scene};
 use glam::Vec3;
-use integrator::{Scratch, TileContext};
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Instant;
 
 /// Largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 1 << 16;
@@ -61,6 +60,8 @@ pub struct RenderSettings {
     pub light_units: LightUnits,
     /// Specialised or general shading kernel.
     pub kernel: KernelChoice,
+    /// Pixel reconstruction filter.
+    pub filter: FilterSpec,
 }
 
 impl Default for RenderSettings {
@@ -72,10 +73,11 @@ impl Default for RenderSettings {
             seed: 0,
             max_depth: 8,
             threads: 0,
-            sampling: PixelSampling::Stratified,
+            sampling: PixelSampling::Sobol,
             aovs: AovSelection::default(),
             light_units: LightUnits::Radiometric,
             kernel: KernelChoice::Specialised,
+            filter: FilterSpec::default(),
         }
     }
 }
@@ -83,7 +85,7 @@ impl Default for RenderSettings {
 /// A finished render.
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
-    /// Radiance per pixel, W/(m²·sr), box-filtered over the pixel's samples.
+    /// Radiance per pixel, W/(m²·sr), reconstructed with the settings' pixel filter.
     pub image: Image<Vec3>,
     /// The selected auxiliary images.
     pub aovs: Aovs,
@@ -161,75 +163,12 @@ pub fn render(
     settings: &RenderSettings,
     progress: Option<Progress<'_>>,
 ) -> Result<RenderOutput, RenderError> {
-    validate(settings)?;
-    if accel.triangle_count() != scene.triangle_count() {
-        return Err(RenderError::AccelMismatch {
-            accel: accel.triangle_count(),
-            scene: scene.triangle_count(),
-        });
-    }
-    let camera_rays =
-        CameraRays::new(camera, settings.width, settings.height).map_err(|reason| {
-            RenderError::Camera {
-                name: camera.name.clone(),
-                reason,
-            }
-        })?;
-    let features = SceneFeatures::of(scene);
-    let flags = KernelFlags::for_scene(&features, settings.kernel);
-    let ctx = TileContext {
-        scene,
-        accel,
-        camera: camera_rays,
-        sampler: PixelSampler::new(settings.sampling, settings.spp, settings.seed),
-        materials: ShadingMaterial::table(scene),
-        lights: LightSet::new(&scene.lights, settings.light_units)?,
-        typed_lights: flags.typed_lights,
-        spp: settings.spp,
-        max_depth: settings.max_depth,
-        aovs: settings.aovs,
-    };
-    let render_tile = kernel::select(&flags);
-    let pool = thread_pool(settings.threads, accel.kind())?;
-
-    let tiles = tiles::tiles(settings.width, settings.height, tiles::TILE_SIZE);
-    let done = AtomicUsize::new(0);
-    let start = Instant::now();
-    let results: Vec<_> = pool.install(|| {
-        tiles
-            .par_iter()
-            .map_init(Scratch::default, |scratch, tile| {
-                let result = render_tile(&ctx, tile, scratch);
-                let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if let Some(report) = progress {
-                    report(finished, tiles.len());
-                }
-                result
-            })
-            .collect()
-    });
-    let elapsed = start.elapsed();
-
-    let mut film = Film::new(settings.width, settings.height, settings.spp, settings.aovs);
-    let mut rays = RayCounts::default();
-    for (tile, (sums, counts)) in tiles.iter().zip(&results) {
-        film.add_tile(tile, sums);
-        rays += *counts;
-    }
-    let (image, aovs) = film.resolve();
-    Ok(RenderOutput {
-        image,
-        aovs,
-        stats: RenderStats {
-            elapsed,
-            rays,
-            features,
-            kernel: flags,
-        },
-    })
+    let mut renderer = PassRenderer::new(scene, accel, camera, settings)?;
+    renderer.render_pass(settings.spp, progress);
+    Ok(renderer.finish())
 }
 
-fn validate(s: &RenderSettings) -> Result<(), RenderError> {
+pub(crate) fn validate(s: &RenderSettings) -> Result<(), RenderError> {
     let bad = |m: String| Err(RenderError::Settings(m));
     if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
         return bad(format!(
