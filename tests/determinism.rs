@@ -29,7 +29,12 @@ fn bits(image: &render::Image<glam::Vec3>) -> Vec<[u32; 3]> {
         .collect()
 }
 
-fn settings(sampling: PixelSampling, filter: FilterKind, threads: usize, seed: u64) -> RenderSettings {
+fn settings(
+    sampling: PixelSampling,
+    filter: FilterKind,
+    threads: usize,
+    seed: u64,
+) -> RenderSettings {
     RenderSettings {
         width: 61,
         height: 37,
@@ -76,7 +81,10 @@ fn one_thread_and_many_give_identical_bytes() {
                 .expect("render")
             };
             let one = render(1);
-            assert!(one.image.pixels.iter().any(|p| p.x > 0.0), "a black image proves nothing");
+            assert!(
+                one.image.pixels.iter().any(|p| p.x > 0.0),
+                "a black image proves nothing"
+            );
             for threads in [2, 3, 7] {
                 let many = render(threads);
                 let what = format!("{backend} {sampling} {filter}, 1 vs {threads} threads");
@@ -91,7 +99,11 @@ fn one_thread_and_many_give_identical_bytes() {
 fn different_seeds_give_different_images() {
     let (scene, camera) = demo();
     let accel = render::prepare(&scene, BackendKind::Bvh, Default::default()).expect("build");
-    for sampling in [PixelSampling::Sobol, PixelSampling::Independent, PixelSampling::Stratified] {
+    for sampling in [
+        PixelSampling::Sobol,
+        PixelSampling::Independent,
+        PixelSampling::Stratified,
+    ] {
         let render = |seed| {
             render::render(
                 &scene,
@@ -132,7 +144,10 @@ fn passes_continue_the_sample_sequence() {
     assert_eq!(passes.samples_per_pixel(), 8);
     let split = passes.finish();
     for (p, q) in whole.image.pixels.iter().zip(&split.image.pixels) {
-        assert!((*p - *q).abs().max_element() <= 1e-5 * p.abs().max_element().max(1.0), "{p} vs {q}");
+        assert!(
+            (*p - *q).abs().max_element() <= 1e-5 * p.abs().max_element().max(1.0),
+            "{p} vs {q}"
+        );
     }
     assert_eq!(whole.stats.rays.traced(), split.stats.rays.traced());
 }

@@ -4,8 +4,8 @@
 
 use glint::accel::BackendKind;
 use glint::render::{
-    self, PixelSampling, RenderSettings, StopReason, StopRule, film::luminance,
-    film::RELATIVE_ERROR_FLOOR,
+    self, PixelSampling, RenderSettings, StopReason, StopRule, film::RELATIVE_ERROR_FLOOR,
+    film::luminance,
 };
 use glint::scene::{self, Camera, Scene};
 use std::time::Duration;
@@ -54,7 +54,10 @@ fn time_budget_stops_within_the_stated_overshoot() {
         "{elapsed} s for a {budget:?} budget"
     );
     // And it used the budget rather than stopping early.
-    assert!(elapsed >= budget.as_secs_f64() * 0.5, "{elapsed} s for a {budget:?} budget");
+    assert!(
+        elapsed >= budget.as_secs_f64() * 0.5,
+        "{elapsed} s for a {budget:?} budget"
+    );
     assert!(out.passes >= 2);
 }
 
@@ -71,7 +74,10 @@ fn target_error_is_reached_on_the_demo_scene_and_is_honest() {
         .expect("render");
     assert_eq!(out.reason, StopReason::TargetError, "{out:?}");
     assert!(out.relative_error <= target);
-    assert!(out.spp > 2, "a 2-sample render should not already be at {target}");
+    assert!(
+        out.spp > 2,
+        "a 2-sample render should not already be at {target}"
+    );
 
     // The true error, same metric, against a 2048-spp reference from another seed.
     let reference = render::render(
@@ -87,7 +93,13 @@ fn target_error_is_reached_on_the_demo_scene_and_is_honest() {
     )
     .expect("reference");
     let n = reference.image.pixels.len() as f64;
-    let mean = reference.image.pixels.iter().map(|&p| luminance(p) as f64).sum::<f64>() / n;
+    let mean = reference
+        .image
+        .pixels
+        .iter()
+        .map(|&p| luminance(p) as f64)
+        .sum::<f64>()
+        / n;
     let floor = RELATIVE_ERROR_FLOOR as f64 * mean;
     let true_error = (out
         .output
@@ -102,7 +114,10 @@ fn target_error_is_reached_on_the_demo_scene_and_is_honest() {
         .sum::<f64>()
         / n)
         .sqrt();
-    assert!(true_error <= 1.5 * target, "true error {true_error} vs target {target}");
+    assert!(
+        true_error <= 1.5 * target,
+        "true error {true_error} vs target {target}"
+    );
 }
 
 #[test]

@@ -38,12 +38,7 @@ fn scene() -> Scene {
 /// Area of the unit square at `min` on the emitter's side: clip the square by the half-plane
 /// (Sutherland–Hodgman) and take the shoelace area.
 fn covered_fraction(min: DVec2) -> f64 {
-    let corners = [
-        min,
-        min + DVec2::X,
-        min + DVec2::ONE,
-        min + DVec2::Y,
-    ];
+    let corners = [min, min + DVec2::X, min + DVec2::ONE, min + DVec2::Y];
     let side = |p: DVec2| edge_normal().dot(p - EDGE_POINT);
     let mut poly = Vec::new();
     for i in 0..4 {

@@ -162,7 +162,11 @@ pub fn thread_scaling(
                 threads: n,
                 ..*settings
             };
-            times[slot].push(render::render(scene, accel, camera, &s, None)?.stats.elapsed);
+            times[slot].push(
+                render::render(scene, accel, camera, &s, None)?
+                    .stats
+                    .elapsed,
+            );
         }
     }
     let [one, all] = times.map(median);
@@ -422,8 +426,15 @@ pub fn run(args: KernelBenchArgs) -> Result<(), CliError> {
         n => n,
     };
     if threads > 1 {
-        let scaling = thread_scaling(&scene, accel.as_ref(), &camera, &settings, threads, args.runs)
-            .map_err(CliError::from_display)?;
+        let scaling = thread_scaling(
+            &scene,
+            accel.as_ref(),
+            &camera,
+            &settings,
+            threads,
+            args.runs,
+        )
+        .map_err(CliError::from_display)?;
         println!(
             "scaling: 1 thread {:.3} s, {threads} threads {:.3} s: {:.2}× speed-up, {:.0}% \
              efficiency (median of {})",

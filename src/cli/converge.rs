@@ -57,12 +57,14 @@ pub struct ConvergeArgs {
 
 /// Seed of a reference glint renders itself: far from any measured seed, so its samples are
 /// independent of theirs.
-const REFERENCE_SEED: u64 = 0x5EED_0F_2EF;
+const REFERENCE_SEED: u64 = 0x0005_EED0_F2EF;
 
 /// Runs `glint converge`.
 pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
     if args.max_spp == 0 || args.reference_spp == 0 {
-        return Err(CliError("--max-spp and --reference-spp must be at least 1".into()));
+        return Err(CliError(
+            "--max-spp and --reference-spp must be at least 1".into(),
+        ));
     }
     if args.backends.is_empty() || args.samplers.is_empty() || args.filters.is_empty() {
         return Err(CliError(
@@ -158,21 +160,23 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
         for (backend, accel) in &accels {
             for &sampler in &args.samplers {
                 let setting = format!("{backend} {sampler} {filter}");
-                rows.extend(measure(
-                    &scene,
-                    accel.as_ref(),
-                    &camera,
-                    &RenderSettings {
-                        sampling: sampler,
-                        filter: *filter,
-                        seed: args.seed,
-                        ..base
-                    },
-                    &reference,
-                    &setting,
-                    args.max_spp,
-                )
-                .map_err(|e| CliError(format!("{label}: {e}")))?);
+                rows.extend(
+                    measure(
+                        &scene,
+                        accel.as_ref(),
+                        &camera,
+                        &RenderSettings {
+                            sampling: sampler,
+                            filter: *filter,
+                            seed: args.seed,
+                            ..base
+                        },
+                        &reference,
+                        &setting,
+                        args.max_spp,
+                    )
+                    .map_err(|e| CliError(format!("{label}: {e}")))?,
+                );
             }
         }
     }
@@ -251,9 +255,9 @@ pub fn slope_lines(rows: &[Measurement]) -> Vec<String> {
                 .map(|m| (m.spp as f64, m.metrics.rmse))
                 .collect();
             match converge::fit_log_slope(&points) {
-                Some(slope) => format!(
-                    "{setting}: RMSE ∝ spp^{slope:.3} (−0.5 is plain Monte Carlo)"
-                ),
+                Some(slope) => {
+                    format!("{setting}: RMSE ∝ spp^{slope:.3} (−0.5 is plain Monte Carlo)")
+                }
                 None => format!("{setting}: too few sample counts to fit a slope"),
             }
         })

@@ -165,14 +165,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let progressive = args.time_budget.is_some() || args.target_error.is_some();
     let (out, spp, stop) = if progressive {
         let rule = stop_rule(&args)?;
-        let result = render::render_progressive(
-            &scene,
-            accel.as_ref(),
-            &camera,
-            &settings,
-            &rule,
-            None,
-        );
+        let result =
+            render::render_progressive(&scene, accel.as_ref(), &camera, &settings, &rule, None);
         bar.finish();
         let p = result.map_err(|e| CliError(format!("{label}: {e}")))?;
         let stop = format!(

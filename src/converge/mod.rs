@@ -21,7 +21,9 @@ pub const REL_MSE_EPSILON: f64 = 1e-2;
 #[derive(Debug, thiserror::Error)]
 pub enum ConvergeError {
     /// The reference could not be read.
-    #[error("cannot read the reference {path}: {message}; give an OpenEXR file with R, G, B channels (e.g. from glint render -o ref.exr)")]
+    #[error(
+        "cannot read the reference {path}: {message}; give an OpenEXR file with R, G, B channels (e.g. from glint render -o ref.exr)"
+    )]
     Reference {
         /// The file.
         path: PathBuf,
@@ -29,7 +31,9 @@ pub enum ConvergeError {
         message: String,
     },
     /// The reference does not match the render.
-    #[error("the reference {path} is {found_w}×{found_h} but the renders are {width}×{height}; pass --width {found_w} --height {found_h} or render a matching reference")]
+    #[error(
+        "the reference {path} is {found_w}×{found_h} but the renders are {width}×{height}; pass --width {found_w} --height {found_h} or render a matching reference"
+    )]
     Size {
         /// The file.
         path: PathBuf,
@@ -228,7 +232,9 @@ pub fn read_exr(path: &Path) -> Result<Image<Vec3>, ConvergeError> {
                 vec![Vec3::ZERO; resolution.width() * resolution.height()],
             )
         },
-        |(width, pixels): &mut (usize, Vec<Vec3>), position, (r, g, b, _a): (f32, f32, f32, f32)| {
+        |(width, pixels): &mut (usize, Vec<Vec3>),
+         position,
+         (r, g, b, _a): (f32, f32, f32, f32)| {
             if let Some(p) = pixels.get_mut(position.y() * *width + position.x()) {
                 *p = Vec3::new(r, g, b);
             }

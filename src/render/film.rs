@@ -114,7 +114,7 @@ impl TileSums {
     /// Folds the pending radiance of sample index `sample` into its half and clears it.
     /// `weights[i]` is the filter weight pixel `i`'s sample carried.
     pub fn end_sample(&mut self, sample: u32, weights: &[f32]) {
-        let (radiance, weight) = if sample % 2 == 0 {
+        let (radiance, weight) = if sample.is_multiple_of(2) {
             (&mut self.radiance_even, &mut self.weight_even)
         } else {
             (&mut self.radiance_odd, &mut self.weight_odd)
@@ -251,7 +251,12 @@ impl Film {
         let image = self.radiance();
         let variance = self.variance();
         let n = image.pixels.len().max(1) as f64;
-        let mean = image.pixels.iter().map(|&p| luminance(p) as f64).sum::<f64>() / n;
+        let mean = image
+            .pixels
+            .iter()
+            .map(|&p| luminance(p) as f64)
+            .sum::<f64>()
+            / n;
         let floor = (RELATIVE_ERROR_FLOOR as f64 * mean).max(f64::MIN_POSITIVE);
         let sum: f64 = image
             .pixels

@@ -104,7 +104,9 @@ fn mitchell_1d(x: f32) -> f32 {
     let v = if x < 1.0 {
         (12.0 - 9.0 * B - 6.0 * C) * x3 + (-18.0 + 12.0 * B + 6.0 * C) * x2 + (6.0 - 2.0 * B)
     } else if x < 2.0 {
-        (-B - 6.0 * C) * x3 + (6.0 * B + 30.0 * C) * x2 + (-12.0 * B - 48.0 * C) * x
+        (-B - 6.0 * C) * x3
+            + (6.0 * B + 30.0 * C) * x2
+            + (-12.0 * B - 48.0 * C) * x
             + (8.0 * B + 24.0 * C)
     } else {
         0.0
@@ -316,10 +318,7 @@ mod tests {
         // variance), on a stratified grid of u so the check is deterministic.
         for kind in FilterKind::ALL {
             for r in [kind.default_radius(), 1.25] {
-                let sampler = FilterSampler::new(FilterSpec {
-                    kind,
-                    radius_px: r,
-                });
+                let sampler = FilterSampler::new(FilterSpec { kind, radius_px: r });
                 let exact = integral(kind, r, |x| (x * x) as f64) / integral(kind, r, |_| 1.0);
                 let n = 4096;
                 let (mut sum_wg, mut sum_w) = (0.0f64, 0.0f64);
