@@ -181,6 +181,10 @@ pub fn write_plot(path: &Path, title: &str, rows: &[Measurement]) -> Result<(), 
         chart
             .configure_mesh()
             .x_desc("render time (s)")
+            // Log axes put labels at awkward values (0.0100000000000001): three significant
+            // digits are enough to read a plot.
+            .x_label_formatter(&|v| format!("{v:.3}"))
+            .y_label_formatter(&|v| format!("{v:.1e}"))
             .y_desc("RMSE (W/(m²·sr))")
             .draw()
             .map_err(|e| encode(e.to_string()))?;
