@@ -48,6 +48,9 @@ fn every_filter_renders_a_constant_scene_to_that_constant_at_every_pixel() {
     for kind in FilterKind::ALL {
         for radius_px in [kind.default_radius(), 0.8, 3.0] {
             let filter = FilterSpec { kind, radius_px };
+            // Odd counts: with ±1 weights an odd count can never cancel to Σw = 0, which
+            // Mitchell's negative lobes allow at even counts (such a pixel is 0; see
+            // docs/convergence.md).
             for spp in [1, 5] {
                 let out = render_with(
                     &scene,

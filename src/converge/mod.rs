@@ -207,6 +207,8 @@ pub fn write_plot(path: &Path, title: &str, rows: &[Measurement]) -> Result<(), 
         }
         chart
             .configure_series_labels()
+            // Upper right: the curves fall toward the lower right, away from the legend.
+            .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .draw()

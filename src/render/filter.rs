@@ -1,9 +1,9 @@
 //! Pixel reconstruction filters, applied by filter importance sampling.
 //!
 //! A pixel's value is `I = ∫ f(x − c) L(x) dx / ∫ f(x − c) dx`, with `c` the pixel centre and
-//! `f` the filter. glint samples film positions `x − c` with density proportional to `|f|`,
-//! gives each sample the weight `f / p` (±1 up to the table's resolution), and the film stores
-//! `Σ w·L / Σ w`. So every sample belongs to exactly one pixel: no splatting across pixels or
+//! `f` the filter. glint samples film positions `x − c` with density proportional to `|f|`
+//! (tabulated in 256 bins per axis; the box is sampled exactly), gives each sample the weight
+//! `sign f` (±1), and the film stores `Σ w·L / Σ w`. So every sample belongs to exactly one pixel: no splatting across pixels or
 //! tiles, which keeps images bit-identical whatever the thread count, and every filter
 //! integrates to 1 by construction (a constant scene gives that constant at every pixel,
 //! borders included, since camera rays may leave the image).
@@ -193,8 +193,8 @@ impl std::str::FromStr for FilterSpec {
     }
 }
 
-/// Bins of the tabulated 1D sampling density: fine enough that the weight `f/p` stays within
-/// a fraction of a percent of ±1 for the smooth filters.
+/// Bins of the tabulated 1D sampling density: the filter glint applies is this tabulation,
+/// within ~1e-3 of the profile's moments (checked by the tests).
 const TABLE_BINS: usize = 256;
 
 /// Samples film offsets from a filter: `|f₁|` tabulated as a piecewise-constant density per
@@ -250,7 +250,8 @@ impl FilterSampler {
     }
 
     /// Maps a uniform point `u ∈ [0, 1)²` to an offset from the pixel centre (pixels) and the
-    /// sample's weight `f/p` (up to a constant factor, which the film's `Σ w·L / Σ w` cancels).
+    /// sample's weight `sign f` (`f/p` up to the constant `∫|f|`, which the film's
+    /// `Σ w·L / Σ w` cancels, and up to the tabulation).
     #[inline]
     pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
         if self.spec.kind == FilterKind::Box {
@@ -271,11 +272,16 @@ impl FilterSampler {
         let t = if hi > lo { (u - lo) / (hi - lo) } else { 0.5 };
         let width = 2.0 * r / bins as f32;
         let x = (-r + (bin as f32 + t.clamp(0.0, 1.0)) * width).clamp(-r, r);
-        let p = self.bin_value[bin];
-        let w = if p > 0.0 {
-            self.spec.kind.eval_1d(x, r) / p
-        } else {
+        // The weight is the sign of f alone, so the film samples the 256-bin tabulation of f
+        // exactly. Weights of exactly ±1 keep a pixel's Σw an integer: with negative lobes
+        // (Mitchell) it can be 0 at low spp (the pixel is then 0), but never so near 0 that
+        // Σ w·L / Σ w explodes, which continuous weights f/p allow.
+        let w = if self.bin_value[bin] <= 0.0 {
             0.0
+        } else if self.spec.kind.eval_1d(x, r) < 0.0 {
+            -1.0
+        } else {
+            1.0
         };
         (x, w)
     }
