@@ -252,22 +252,29 @@ pub fn render_prepared(
             note,
         });
     }
-    let (image, aovs, stats, samples, note) =
-        if args.time_budget.is_some() || args.target_error.is_some() {
-            let rule = stop_rule(args)?;
-            let p = render::progressive::render_progressive_with(&inputs, &settings, &rule, progress)
-                .map_err(CliError::from_display)?;
-            let note = format!(
-                "; stopped after {} passes ({:?}), estimated relative error {:.4}",
-                p.passes, p.reason, p.relative_error
-            );
-            (p.output.image, p.output.aovs, p.output.stats, 0..p.spp, note)
-        } else {
-            let (film, stats) = render::render_film(&inputs, &settings, 0..settings.spp, progress)
-                .map_err(CliError::from_display)?;
-            let (image, aovs) = film.resolve();
-            (image, aovs, stats, 0..settings.spp, String::new())
-        };
+    let (image, aovs, stats, samples, note) = if args.time_budget.is_some()
+        || args.target_error.is_some()
+    {
+        let rule = stop_rule(args)?;
+        let p = render::progressive::render_progressive_with(&inputs, &settings, &rule, progress)
+            .map_err(CliError::from_display)?;
+        let note = format!(
+            "; stopped after {} passes ({:?}), estimated relative error {:.4}",
+            p.passes, p.reason, p.relative_error
+        );
+        (
+            p.output.image,
+            p.output.aovs,
+            p.output.stats,
+            0..p.spp,
+            note,
+        )
+    } else {
+        let (film, stats) = render::render_film(&inputs, &settings, 0..settings.spp, progress)
+            .map_err(CliError::from_display)?;
+        let (image, aovs) = film.resolve();
+        (image, aovs, stats, 0..settings.spp, String::new())
+    };
     match format {
         OutputFormat::Png => write_png(
             &output,

@@ -198,7 +198,12 @@ impl Film {
     /// renders write these so that parts can be merged before dividing.
     pub fn into_sums(self) -> (Image<Vec3>, Aovs, Image<f32>) {
         let add3 = |a: Image<Vec3>, b: &Image<Vec3>| Image {
-            pixels: a.pixels.iter().zip(&b.pixels).map(|(x, y)| *x + *y).collect(),
+            pixels: a
+                .pixels
+                .iter()
+                .zip(&b.pixels)
+                .map(|(x, y)| *x + *y)
+                .collect(),
             ..a
         };
         let radiance = add3(self.radiance_even, &self.radiance_odd);

@@ -161,7 +161,11 @@ impl<'a> PassRenderer<'a> {
     }
 
     /// Renders the samples with indices in `samples` (a partial render's range) as one pass.
-    pub fn render_samples(&mut self, samples: std::ops::Range<u32>, progress: Option<Progress<'_>>) {
+    pub fn render_samples(
+        &mut self,
+        samples: std::ops::Range<u32>,
+        progress: Option<Progress<'_>>,
+    ) {
         self.ctx.first_sample = samples.start;
         self.render_pass(samples.end.saturating_sub(samples.start), progress);
     }
