@@ -2,7 +2,9 @@
 # Installs what glint needs to build on Debian/Ubuntu, only what is missing:
 #   libembree-dev  Embree (3.13 on Debian 12, 4.x on Debian 13 / Ubuntu 24.04)
 #   libclang-dev   libclang for bindgen
-#   pkg-config, a C compiler, curl (for rustup, if Rust is missing)
+#   libfontconfig1-dev, fonts-dejavu-core   fonts for the plots of `glint converge`
+#   pkg-config, a C compiler, python3-pip (the Embree 4 check), curl (for rustup, if Rust is
+#   missing)
 # and a Rust toolchain through rustup when cargo is not on PATH.
 set -euo pipefail
 
@@ -11,6 +13,11 @@ dpkg -s libembree-dev >/dev/null 2>&1 || need+=(libembree-dev)
 dpkg -s libclang-dev >/dev/null 2>&1 || need+=(libclang-dev)
 dpkg -s pkg-config >/dev/null 2>&1 || command -v pkg-config >/dev/null || need+=(pkg-config)
 command -v cc >/dev/null 2>&1 || need+=(build-essential)
+# glint converge draws its plots with plotters, which finds fonts through fontconfig.
+dpkg -s libfontconfig1-dev >/dev/null 2>&1 || need+=(libfontconfig1-dev)
+dpkg -s fonts-dejavu-core >/dev/null 2>&1 || need+=(fonts-dejavu-core)
+# The Embree 4 check in scripts/test.sh fetches a wheel with pip.
+python3 -m pip --version >/dev/null 2>&1 || need+=(python3-pip)
 if ! command -v cargo >/dev/null 2>&1 && [ ! -x "$HOME/.cargo/bin/cargo" ]; then
     command -v curl >/dev/null 2>&1 || need+=(curl ca-certificates)
 fi

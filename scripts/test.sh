@@ -1,8 +1,15 @@
 #!/usr/bin/env bash
-# The README's test command: installs what is missing, then runs every test with the Embree
-# backend compiled in (the default feature), so both backends are exercised.
+# The README's test command: installs what is missing, runs every test with the Embree backend
+# compiled in (the default feature, so both backends are exercised), then proves the Embree 4
+# path too (scripts/check-embree4.sh: Embree 4 headers from the embree4-sys crate, a real
+# libembree4 from the embreex wheel; it reuses target/ and rebuilds glint alone). Set
+# GLINT_EMBREE4_CHECK=0 to skip that step on a machine without access to the package
+# registries.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 export PATH="$HOME/.cargo/bin:$PATH"
 cargo test --locked "$@"
+if [ "${GLINT_EMBREE4_CHECK:-1}" != "0" ]; then
+    EMBREE4_TARGET_DIR=target scripts/check-embree4.sh
+fi

@@ -10,6 +10,7 @@ pub mod accel;
 pub mod batch;
 pub mod bench;
 pub mod cli;
+pub mod converge;
 pub mod geometry;
 pub mod light;
 pub mod material;

@@ -22,6 +22,8 @@ enum Command {
     Batch(glint::cli::batch::BatchArgs),
     /// Merge partial EXRs (render --sample-range/--shard) into one image.
     Merge(glint::cli::merge::MergeArgs),
+    /// Measure error against a reference as samples grow, per backend, sampler and filter.
+    Converge(glint::cli::converge::ConvergeArgs),
 }
 
 fn main() -> ExitCode {
@@ -31,6 +33,7 @@ fn main() -> ExitCode {
         Command::Bench(cmd) => glint::cli::bench::run(cmd),
         Command::Batch(args) => glint::cli::batch::run(args),
         Command::Merge(args) => glint::cli::merge::run(args),
+        Command::Converge(args) => glint::cli::converge::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,6 +8,9 @@ use crate::bench::{BenchScene, RaysConfig, SceneSize, run_rays};
 pub enum BenchCommand {
     /// Ray throughput and acceleration-structure build time of both backends.
     Rays(RaysArgs),
+    /// The renderer's end-to-end ray rate next to the raw backend rate on the same rays, its
+    /// kernel specialisation against the general kernel, and its scaling from 1 thread to all.
+    Render(super::bench_render::KernelBenchArgs),
 }
 
 /// Arguments of `glint bench rays`.
@@ -103,6 +106,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), CliError> {
             }
             Ok(())
         }
+        BenchCommand::Render(args) => super::bench_render::run(args),
     }
 }
 
@@ -121,6 +125,7 @@ mod tests {
         let cli = Cli::try_parse_from(std::iter::once("bench").chain(args.iter().copied()))?;
         match cli.bench {
             BenchCommand::Rays(args) => Ok(args),
+            BenchCommand::Render(_) => panic!("expected bench rays"),
         }
     }
 

@@ -1,11 +1,13 @@
-//! Render benchmarks (wired into `glint bench` by the lead):
+//! Render benchmarks (`glint bench render`):
 //!
 //! - [`kernel_bench`]: the same render with the kernel specialised for the scene and with the
 //!   fully general kernel, median wall time of each.
 //! - [`raw_trace`]: the same camera and shadow rays traced with no shading at all, the
 //!   ceiling a renderer's ray throughput can approach.
 //!
-//! [`run`] drives both for a glTF scene or, without one, a procedural scene, so it needs no
+//! - [`thread_scaling`]: the same render on 1 thread and on all, and the parallel efficiency.
+//!
+//! [`run`] drives them for a glTF scene or, without one, a procedural scene, so it needs no
 //! files.
 
 use super::CliError;
@@ -118,6 +120,57 @@ pub fn kernel_bench(
 fn median(mut v: Vec<Duration>) -> Duration {
     v.sort();
     v.get(v.len() / 2).copied().unwrap_or_default()
+}
+
+/// Result of [`thread_scaling`].
+#[derive(Clone, Copy, Debug)]
+pub struct Scaling {
+    /// Threads of the parallel run.
+    pub threads: usize,
+    /// Median render time on one thread.
+    pub one: Duration,
+    /// Median render time on `threads` threads.
+    pub all: Duration,
+}
+
+impl Scaling {
+    /// Speed-up over one thread.
+    pub fn speedup(&self) -> f64 {
+        self.one.as_secs_f64() / self.all.as_secs_f64().max(1e-12)
+    }
+
+    /// Parallel efficiency: speed-up / threads (1 is perfect scaling).
+    pub fn efficiency(&self) -> f64 {
+        self.speedup() / self.threads.max(1) as f64
+    }
+}
+
+/// Renders with 1 thread and with `threads` threads (alternating, `runs` times each) and
+/// reports the median times.
+pub fn thread_scaling(
+    scene: &Scene,
+    accel: &dyn Accel,
+    camera: &Camera,
+    settings: &RenderSettings,
+    threads: usize,
+    runs: usize,
+) -> Result<Scaling, RenderError> {
+    let mut times = [Vec::new(), Vec::new()];
+    for _ in 0..runs.max(1) {
+        for (slot, n) in [1, threads].into_iter().enumerate() {
+            let s = RenderSettings {
+                threads: n,
+                ..*settings
+            };
+            times[slot].push(
+                render::render(scene, accel, camera, &s, None)?
+                    .stats
+                    .elapsed,
+            );
+        }
+    }
+    let [one, all] = times.map(median);
+    Ok(Scaling { threads, one, all })
 }
 
 /// Per-worker buffers of [`raw_trace`]: camera rays, hits, shadow rays, occlusion.
@@ -347,8 +400,16 @@ pub fn run(args: KernelBenchArgs) -> Result<(), CliError> {
         threads: args.threads,
         ..RenderSettings::default()
     };
-    let raw =
-        raw_trace(&scene, accel.as_ref(), &camera, &settings).map_err(CliError::from_display)?;
+    // The raw trace's median run, like the renders' (one run is too noisy on a shared machine).
+    let mut raws = Vec::new();
+    for _ in 0..args.runs.max(1) {
+        raws.push(
+            raw_trace(&scene, accel.as_ref(), &camera, &settings)
+                .map_err(CliError::from_display)?,
+        );
+    }
+    raws.sort_by_key(|r| r.elapsed);
+    let raw = raws[raws.len() / 2];
     let report = kernel_bench(&scene, accel.as_ref(), &camera, &settings, args.runs)
         .map_err(CliError::from_display)?;
     let rendered = report.rays as f64 / report.specialised.as_secs_f64().max(1e-12) / 1e6;
@@ -362,11 +423,35 @@ pub fn run(args: KernelBenchArgs) -> Result<(), CliError> {
     );
     println!("{report}");
     println!(
-        "raw trace (camera + unshaded shadow rays, same batches): {:.3} s, {:.1} Mrays/s; \
-         renderer reaches {:.0}% of it",
+        "raw trace (camera + unshaded shadow rays, same batches, median): {:.3} s, {:.1} \
+         Mrays/s; renderer reaches {:.0}% of it",
         raw.elapsed.as_secs_f64(),
         raw.mrays_per_second(),
         100.0 * rendered / raw.mrays_per_second().max(1e-12)
     );
+    let threads = match args.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    if threads > 1 {
+        let scaling = thread_scaling(
+            &scene,
+            accel.as_ref(),
+            &camera,
+            &settings,
+            threads,
+            args.runs,
+        )
+        .map_err(CliError::from_display)?;
+        println!(
+            "scaling: 1 thread {:.3} s, {threads} threads {:.3} s: {:.2}× speed-up, {:.0}% \
+             efficiency (median of {})",
+            scaling.one.as_secs_f64(),
+            scaling.all.as_secs_f64(),
+            scaling.speedup(),
+            100.0 * scaling.efficiency(),
+            args.runs
+        );
+    }
     Ok(())
 }

@@ -101,6 +101,24 @@ pub struct RenderArgs {
     /// `glint merge`; I counts from 0.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<crate::batch::Shard>,
+    /// Pixel filter, NAME[:RADIUS_PX]: box (0.5), tent (1), gaussian (1.5), mitchell (2),
+    /// blackman-harris (2).
+    #[arg(long, default_value = "box")]
+    pub filter: render::FilterSpec,
+    /// Sample sequence: sobol, stratified, independent or center.
+    #[arg(long, default_value = "sobol")]
+    pub sampler: render::PixelSampling,
+    /// Render passes until this many seconds of rendering are spent (progressive; --spp is
+    /// then ignored).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_budget: Option<f64>,
+    /// Render passes until the estimated relative RMS error falls to E (e.g. 0.02), or the
+    /// time budget or --max-spp is reached.
+    #[arg(long, value_name = "E")]
+    pub target_error: Option<f64>,
+    /// Sample cap of a progressive render.
+    #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
+    pub max_spp: u32,
 }
 
 /// A loaded scene and its ray-query structure, shared by the renders of `glint batch`.
@@ -125,6 +143,9 @@ pub struct Rendered {
     pub samples: std::ops::Range<u32>,
     /// What the render traced.
     pub stats: RenderStats,
+    /// How the samples were chosen, for the summary line: a partial range, or why a
+    /// progressive render stopped ("" for a plain render).
+    pub note: String,
 }
 
 /// Runs `glint render`.
@@ -161,22 +182,17 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let result = render_prepared(&args, prepared, None, None, Some(&report), &say);
     bar.finish();
     let done = result.map_err(|e| CliError(format!("{label}: {e}")))?;
-    let partial = if done.samples.len() as u32 == args.spp {
-        String::new()
-    } else {
-        format!(
-            ", samples {}..{} (partial)",
-            done.samples.start, done.samples.end
-        )
-    };
     say(format!(
-        "wrote {} ({}×{}, {} spp{partial}, {}): {}",
+        "wrote {} ({}×{}, {} spp, {}, {} sampler, {} filter): {}{}",
         done.output.display(),
         done.width,
         done.height,
-        args.spp,
+        done.samples.len(),
         args.backend,
-        done.stats.summary()
+        args.sampler,
+        args.filter,
+        done.stats.summary(),
+        done.note
     ));
     Ok(())
 }
@@ -226,17 +242,39 @@ pub fn render_prepared(
             render::partial::render_partial(&inputs, &settings, samples.clone(), progress)
                 .map_err(CliError::from_display)?;
         crate::batch::parts::write_partial_exr(&output, &part).map_err(CliError::from_display)?;
+        let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
         return Ok(Rendered {
             output,
             width,
             height,
             samples,
             stats,
+            note,
         });
     }
-    let (film, stats) = render::render_film(&inputs, &settings, 0..settings.spp, progress)
-        .map_err(CliError::from_display)?;
-    let (image, aovs) = film.resolve();
+    let (image, aovs, stats, samples, note) = if args.time_budget.is_some()
+        || args.target_error.is_some()
+    {
+        let rule = stop_rule(args)?;
+        let p = render::progressive::render_progressive_with(&inputs, &settings, &rule, progress)
+            .map_err(CliError::from_display)?;
+        let note = format!(
+            "; stopped after {} passes ({:?}), estimated relative error {:.4}",
+            p.passes, p.reason, p.relative_error
+        );
+        (
+            p.output.image,
+            p.output.aovs,
+            p.output.stats,
+            0..p.spp,
+            note,
+        )
+    } else {
+        let (film, stats) = render::render_film(&inputs, &settings, 0..settings.spp, progress)
+            .map_err(CliError::from_display)?;
+        let (image, aovs) = film.resolve();
+        (image, aovs, stats, 0..settings.spp, String::new())
+    };
     match format {
         OutputFormat::Png => write_png(
             &output,
@@ -257,8 +295,9 @@ pub fn render_prepared(
         output,
         width,
         height,
-        samples: 0..settings.spp,
+        samples,
         stats,
+        note,
     })
 }
 
@@ -276,6 +315,8 @@ pub fn render_settings(args: &RenderArgs, width: u32, height: u32) -> RenderSett
         // lights are radiometric).
         light_units: LightUnits::Radiometric,
         texture_filter: args.texture_filter,
+        filter: args.filter,
+        sampling: args.sampler,
         ..RenderSettings::default()
     }
 }
@@ -296,6 +337,31 @@ pub fn partial_samples(args: &RenderArgs) -> Result<Option<std::ops::Range<u32>>
         )));
     }
     Ok(Some(samples))
+}
+
+/// The progressive stop rule from `--time-budget`, `--target-error` and `--max-spp`.
+fn stop_rule(args: &RenderArgs) -> Result<render::StopRule, CliError> {
+    let time_budget = match args.time_budget {
+        Some(t) if t > 0.0 && t.is_finite() && t < 1e9 => Some(Duration::from_secs_f64(t)),
+        Some(t) => {
+            return Err(CliError(format!(
+                "--time-budget {t}: give a positive number of seconds"
+            )));
+        }
+        None => None,
+    };
+    if let Some(e) = args.target_error
+        && !(e > 0.0 && e.is_finite())
+    {
+        return Err(CliError(format!(
+            "--target-error {e}: give a positive relative error, e.g. 0.02 for 2%"
+        )));
+    }
+    Ok(render::StopRule {
+        time_budget,
+        target_error: args.target_error,
+        max_spp: args.max_spp,
+    })
 }
 
 /// The output path: `-o`, or a default from the scene's name.

@@ -1,7 +1,8 @@
 //! The film: accumulates samples per pixel and resolves them into images.
 //!
-//! Reconstruction is a box filter over the pixel (the average of its samples); the film is a
-//! small type so that a later pixel filter can change how samples are weighted and spread.
+//! Each sample carries the weight its pixel filter gave it ([`super::filter`]); a pixel is
+//! `Σ w·L / Σ w` over its own samples only (filter importance sampling: no splats into
+//! neighbours), so the result does not depend on the order tiles finish in.
 
 use super::tiles::Tile;
 use glam::Vec3;
@@ -68,15 +69,29 @@ pub struct Aovs {
 }
 
 /// Per-pixel sums of one tile's samples, in the tile's row-major order.
+///
+/// Radiance and filter weights are kept in two halves, even and odd sample indices: two
+/// independent estimates of each pixel, whose difference estimates the pixel's variance
+/// (progressive rendering's error estimate). The integrator adds a sample's radiance to
+/// `pending` and calls [`TileSums::end_sample`] once the sample index is done, so each half is
+/// a sum over whole samples in sample order, independent of how rays were batched.
 #[derive(Clone, Debug, Default)]
 pub struct TileSums {
-    /// Σ radiance (W/(m²·sr)).
-    pub radiance: Vec<Vec3>,
-    /// Σ albedo, if selected (else empty).
+    /// Σ w·L over even sample indices (W/(m²·sr)); `w` is the filter weight.
+    pub radiance_even: Vec<Vec3>,
+    /// Σ w·L over odd sample indices.
+    pub radiance_odd: Vec<Vec3>,
+    /// Σ w over even sample indices.
+    pub weight_even: Vec<f32>,
+    /// Σ w over odd sample indices.
+    pub weight_odd: Vec<f32>,
+    /// w·L of the sample index in flight (already filter-weighted).
+    pub pending: Vec<Vec3>,
+    /// Σ w·albedo, if selected (else empty).
     pub albedo: Vec<Vec3>,
-    /// Σ normal, if selected.
+    /// Σ w·normal, if selected.
     pub normal: Vec<Vec3>,
-    /// Σ depth, if selected.
+    /// Σ w·depth, if selected.
     pub depth: Vec<f32>,
 }
 
@@ -85,41 +100,75 @@ impl TileSums {
     pub fn new(pixels: usize, aovs: AovSelection) -> Self {
         let sized = |on: bool| if on { pixels } else { 0 };
         Self {
-            radiance: vec![Vec3::ZERO; pixels],
+            radiance_even: vec![Vec3::ZERO; pixels],
+            radiance_odd: vec![Vec3::ZERO; pixels],
+            weight_even: vec![0.0; pixels],
+            weight_odd: vec![0.0; pixels],
+            pending: vec![Vec3::ZERO; pixels],
             albedo: vec![Vec3::ZERO; sized(aovs.albedo)],
             normal: vec![Vec3::ZERO; sized(aovs.normal)],
             depth: vec![0.0; sized(aovs.depth)],
         }
     }
+
+    /// Folds the pending radiance of sample index `sample` into its half and clears it.
+    /// `weights[i]` is the filter weight pixel `i`'s sample carried.
+    pub fn end_sample(&mut self, sample: u32, weights: &[f32]) {
+        let (radiance, weight) = if sample.is_multiple_of(2) {
+            (&mut self.radiance_even, &mut self.weight_even)
+        } else {
+            (&mut self.radiance_odd, &mut self.weight_odd)
+        };
+        for (i, pending) in self.pending.iter_mut().enumerate() {
+            if let (Some(r), Some(w), Some(&sample_w)) =
+                (radiance.get_mut(i), weight.get_mut(i), weights.get(i))
+            {
+                *r += *pending;
+                *w += sample_w;
+            }
+            *pending = Vec3::ZERO;
+        }
+    }
 }
 
-/// The whole image's sums.
+/// The whole image's sums, accumulated over one or more passes.
 #[derive(Clone, Debug)]
 pub struct Film {
-    samples_per_pixel: u32,
-    radiance: Image<Vec3>,
+    radiance_even: Image<Vec3>,
+    radiance_odd: Image<Vec3>,
+    weight_even: Image<f32>,
+    weight_odd: Image<f32>,
     albedo: Option<Image<Vec3>>,
     normal: Option<Image<Vec3>>,
     depth: Option<Image<f32>>,
 }
 
+/// Floor of the relative-error denominator, as a fraction of the image's mean luminance:
+/// keeps black pixels (whose relative error is undefined) from dominating the estimate.
+pub const RELATIVE_ERROR_FLOOR: f32 = 0.1;
+
 impl Film {
-    /// An empty film; every pixel will receive `samples_per_pixel` samples.
-    pub fn new(width: u32, height: u32, samples_per_pixel: u32, aovs: AovSelection) -> Self {
+    /// An empty film.
+    pub fn new(width: u32, height: u32, aovs: AovSelection) -> Self {
+        let zero3 = || Image::filled(width, height, Vec3::ZERO);
         Self {
-            samples_per_pixel: samples_per_pixel.max(1),
-            radiance: Image::filled(width, height, Vec3::ZERO),
-            albedo: aovs
-                .albedo
-                .then(|| Image::filled(width, height, Vec3::ZERO)),
-            normal: aovs
-                .normal
-                .then(|| Image::filled(width, height, Vec3::ZERO)),
+            radiance_even: zero3(),
+            radiance_odd: zero3(),
+            weight_even: Image::filled(width, height, 0.0),
+            weight_odd: Image::filled(width, height, 0.0),
+            albedo: aovs.albedo.then(zero3),
+            normal: aovs.normal.then(zero3),
             depth: aovs.depth.then(|| Image::filled(width, height, 0.0)),
         }
     }
 
-    /// Adds a tile's sums at the tile's place.
+    /// Width and height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.radiance_even.width, self.radiance_even.height)
+    }
+
+    /// Adds a tile's sums at the tile's place. Each pixel belongs to one tile, so the order
+    /// in which tiles are added does not change any pixel's value.
     pub fn add_tile(&mut self, tile: &Tile, sums: &TileSums) {
         fn add<T: Copy + std::ops::AddAssign>(image: &mut Image<T>, tile: &Tile, src: &[T]) {
             let width = image.width as usize;
@@ -130,7 +179,10 @@ impl Film {
                 }
             }
         }
-        add(&mut self.radiance, tile, &sums.radiance);
+        add(&mut self.radiance_even, tile, &sums.radiance_even);
+        add(&mut self.radiance_odd, tile, &sums.radiance_odd);
+        add(&mut self.weight_even, tile, &sums.weight_even);
+        add(&mut self.weight_odd, tile, &sums.weight_odd);
         if let Some(image) = &mut self.albedo {
             add(image, tile, &sums.albedo);
         }
@@ -142,40 +194,158 @@ impl Film {
         }
     }
 
-    /// The unresolved sums: radiance and the selected AOVs, each summed (not averaged) over
-    /// the pixel's samples, and the number of samples every pixel received. Partial renders
-    /// write these so that parts can be merged before dividing.
-    pub fn into_sums(self) -> (Image<Vec3>, Aovs, u32) {
+    /// The unresolved sums: `Σ w·L` and the AOVs' `Σ w·value` per pixel, and `Σ w`. Partial
+    /// renders write these so that parts can be merged before dividing.
+    pub fn into_sums(self) -> (Image<Vec3>, Aovs, Image<f32>) {
+        let add3 = |a: Image<Vec3>, b: &Image<Vec3>| Image {
+            pixels: a
+                .pixels
+                .iter()
+                .zip(&b.pixels)
+                .map(|(x, y)| *x + *y)
+                .collect(),
+            ..a
+        };
+        let radiance = add3(self.radiance_even, &self.radiance_odd);
+        let weight = Image {
+            pixels: (self.weight_even.pixels.iter().zip(&self.weight_odd.pixels))
+                .map(|(x, y)| x + y)
+                .collect(),
+            ..self.weight_even
+        };
         (
-            self.radiance,
+            radiance,
             Aovs {
                 albedo: self.albedo,
                 normal: self.normal,
                 depth: self.depth,
             },
-            self.samples_per_pixel,
+            weight,
         )
     }
 
-    /// Box-filter reconstruction: each pixel's sum divided by its sample count.
-    pub fn resolve(self) -> (Image<Vec3>, Aovs) {
-        let inv = 1.0 / self.samples_per_pixel as f32;
-        let scale3 = |mut image: Image<Vec3>| {
-            image.pixels.iter_mut().for_each(|p| *p *= inv);
-            image
+    fn total_weight(&self, i: usize) -> f32 {
+        self.weight_even.pixels[i] + self.weight_odd.pixels[i]
+    }
+
+    /// The reconstructed radiance `Σ w·L / Σ w` (0 where no weight arrived).
+    pub fn radiance(&self) -> Image<Vec3> {
+        let (width, height) = self.size();
+        let pixels = (0..self.radiance_even.pixels.len())
+            .map(|i| {
+                let sum = self.radiance_even.pixels[i] + self.radiance_odd.pixels[i];
+                safe_div3(sum, self.total_weight(i))
+            })
+            .collect();
+        Image {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    /// Per-pixel variance of the reconstructed radiance, estimated from the two halves `A`
+    /// (even samples) and `B` (odd): `Var(I) ≈ (A − B)²/4` per channel, exact in expectation
+    /// when the halves are independent and equally weighted. With Sobol points the halves are
+    /// correlated and the whole is better than either half, so this overestimates.
+    pub fn variance(&self) -> Image<Vec3> {
+        let (width, height) = self.size();
+        let pixels = (0..self.radiance_even.pixels.len())
+            .map(|i| {
+                let a = safe_div3(self.radiance_even.pixels[i], self.weight_even.pixels[i]);
+                let b = safe_div3(self.radiance_odd.pixels[i], self.weight_odd.pixels[i]);
+                let d = a - b;
+                d * d * 0.25
+            })
+            .collect();
+        Image {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    /// Estimated relative RMS error of the image: `sqrt(mean_p Var(Y_p) / (Y_p² + ε²))` over
+    /// luminance `Y`, with `ε` = [`RELATIVE_ERROR_FLOOR`] × the mean luminance. Returns
+    /// infinity while some pixel has only one half (fewer than 2 samples).
+    pub fn relative_error(&self) -> f64 {
+        if self
+            .weight_odd
+            .pixels
+            .iter()
+            .chain(&self.weight_even.pixels)
+            .any(|&w| w == 0.0)
+        {
+            return f64::INFINITY;
+        }
+        let image = self.radiance();
+        let variance = self.variance();
+        let n = image.pixels.len().max(1) as f64;
+        let mean = image
+            .pixels
+            .iter()
+            .map(|&p| luminance(p) as f64)
+            .sum::<f64>()
+            / n;
+        let floor = (RELATIVE_ERROR_FLOOR as f64 * mean).max(f64::MIN_POSITIVE);
+        let sum: f64 = image
+            .pixels
+            .iter()
+            .zip(&variance.pixels)
+            .map(|(&p, &v)| {
+                let y = luminance(p) as f64;
+                luminance(v) as f64 / (y * y + floor * floor)
+            })
+            .sum();
+        (sum / n).sqrt()
+    }
+
+    /// Reconstruction: radiance and AOVs, each `Σ w·value / Σ w`.
+    pub fn resolve(&self) -> (Image<Vec3>, Aovs) {
+        let weight = |i: usize| self.total_weight(i);
+        let scale3 = |image: &Image<Vec3>| Image {
+            width: image.width,
+            height: image.height,
+            pixels: image
+                .pixels
+                .iter()
+                .enumerate()
+                .map(|(i, &p)| safe_div3(p, weight(i)))
+                .collect(),
         };
-        let depth = self.depth.map(|mut image| {
-            image.pixels.iter_mut().for_each(|p| *p *= inv);
-            image
+        let depth = self.depth.as_ref().map(|image| Image {
+            width: image.width,
+            height: image.height,
+            pixels: image
+                .pixels
+                .iter()
+                .enumerate()
+                .map(|(i, &d)| if weight(i) != 0.0 { d / weight(i) } else { 0.0 })
+                .collect(),
         });
         (
-            scale3(self.radiance),
+            self.radiance(),
             Aovs {
-                albedo: self.albedo.map(scale3),
-                normal: self.normal.map(scale3),
+                albedo: self.albedo.as_ref().map(scale3),
+                normal: self.normal.as_ref().map(scale3),
                 depth,
             },
         )
+    }
+}
+
+/// Rec. 709 / sRGB luminance of linear RGB.
+#[inline]
+pub fn luminance(rgb: Vec3) -> f32 {
+    rgb.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+#[inline]
+fn safe_div3(sum: Vec3, weight: f32) -> Vec3 {
+    if weight != 0.0 {
+        sum / weight
+    } else {
+        Vec3::ZERO
     }
 }
 
@@ -189,7 +359,7 @@ mod tests {
             depth: true,
             ..Default::default()
         };
-        let mut film = Film::new(3, 2, 2, aovs);
+        let mut film = Film::new(3, 2, aovs);
         let tile = Tile {
             x0: 1,
             y0: 1,
@@ -197,11 +367,16 @@ mod tests {
             height: 1,
         };
         let mut sums = TileSums::new(2, aovs);
-        sums.radiance[1] = Vec3::splat(4.0);
+        for sample in 0..2 {
+            sums.pending[1] = Vec3::splat(2.0 + sample as f32);
+            sums.end_sample(sample, &[1.0, 1.0]);
+        }
         sums.depth[0] = 6.0;
         film.add_tile(&tile, &sums);
+        // Halves 2 and 3: variance (2 − 3)²/4.
+        assert_eq!(film.variance().get(2, 1), Some(Vec3::splat(0.25)));
         let (image, aovs) = film.resolve();
-        assert_eq!(image.get(2, 1), Some(Vec3::splat(2.0)));
+        assert_eq!(image.get(2, 1), Some(Vec3::splat(2.5)));
         assert_eq!(image.get(0, 0), Some(Vec3::ZERO));
         assert_eq!(aovs.depth.unwrap().get(1, 1), Some(3.0));
         assert!(aovs.albedo.is_none());

@@ -14,6 +14,7 @@
 
 use super::camera::CameraRays;
 use super::film::{AovSelection, TileSums};
+use super::filter::FilterSampler;
 use super::sampler::PixelSampler;
 use super::stats::RayCounts;
 use super::tiles::Tile;
@@ -35,12 +36,16 @@ pub(crate) struct TileContext<'a> {
     pub accel: &'a dyn Accel,
     pub camera: CameraRays,
     pub sampler: PixelSampler,
+    /// Turns the sampler's point into a film offset and a filter weight.
+    pub filter: FilterSampler,
+    /// First sample index of this pass (progressive rendering renders several passes).
+    pub first_sample: u32,
     pub materials: Vec<ShadingMaterial>,
     pub lights: LightSet,
     /// Loop over per-type light lists (specialised) or the run-time typed list (general).
     pub typed_lights: bool,
-    /// The sample indices to render (of the sampler's samples per pixel).
-    pub samples: std::ops::Range<u32>,
+    /// Samples per pixel in this pass.
+    pub spp: u32,
     pub max_depth: u32,
     pub aovs: AovSelection,
     /// MIP chains of `scene.textures`, index-aligned (empty when the kernel reads no textures).
@@ -58,7 +63,10 @@ pub(crate) struct TileContext<'a> {
 #[derive(Clone, Copy, Debug)]
 struct PathVertex {
     pixel: u32,
+    /// Includes the sample's filter weight.
     throughput: Vec3,
+    /// The sample's filter weight (AOVs are weighted by it too).
+    filter_weight: f32,
 }
 
 /// A diffuse hit waiting for its lights.
@@ -88,6 +96,8 @@ pub(crate) struct Scratch {
     /// Ray differentials, index-aligned with `rays` (empty unless carried).
     diffs: Vec<RayDifferential>,
     next_diffs: Vec<RayDifferential>,
+    /// Filter weight of each tile pixel's sample in flight.
+    weights: Vec<f32>,
 }
 
 /// Renders one tile: all samples of all its pixels. The const switches remove per-hit work
@@ -106,15 +116,18 @@ pub(crate) fn render_tile<
     let mut counts = RayCounts::default();
     // Differentials exist only in texture kernels, and only when a filter reads them.
     let carry = TEXTURES && ctx.differentials;
-    for sample in ctx.samples.clone() {
+    for sample in ctx.first_sample..ctx.first_sample.saturating_add(ctx.spp) {
         s.rays.clear();
         s.paths.clear();
+        s.weights.clear();
         s.diffs.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
-            let offset = ctx.sampler.offset(x, y, sample);
-            let (fx, fy) = (x as f32 + offset.x, y as f32 + offset.y);
+            // Offsets are from the pixel centre and may leave the pixel (wide filters).
+            let (offset, weight) = ctx.filter.sample(ctx.sampler.offset(x, y, sample));
+            let (fx, fy) = (x as f32 + 0.5 + offset.x, y as f32 + 0.5 + offset.y);
             s.rays.push(ctx.camera.ray(fx, fy));
+            s.weights.push(weight);
             if carry {
                 s.diffs.push(
                     ctx.camera
@@ -123,7 +136,8 @@ pub(crate) fn render_tile<
             }
             s.paths.push(PathVertex {
                 pixel: local as u32,
-                throughput: Vec3::ONE,
+                throughput: Vec3::splat(weight),
+                filter_weight: weight,
             });
         }
         let mut depth = 0;
@@ -197,7 +211,7 @@ pub(crate) fn render_tile<
                 counts.shadow += s.shadow_rays.len() as u64;
                 for (&(pixel, value), &blocked) in s.shadow_values.iter().zip(&s.occluded) {
                     if !blocked {
-                        sums.radiance[pixel as usize] += value;
+                        sums.pending[pixel as usize] += value;
                     }
                 }
             }
@@ -207,6 +221,7 @@ pub(crate) fn render_tile<
             std::mem::swap(&mut s.diffs, &mut s.next_diffs);
             depth += 1;
         }
+        sums.end_sample(sample, &s.weights);
     }
     (sums, counts)
 }
@@ -266,21 +281,22 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
 
     let pixel = path.pixel as usize;
     if primary {
+        let w = path.filter_weight;
         if let Some(a) = sums.albedo.get_mut(pixel) {
-            *a += if lit { albedo } else { Vec3::ZERO };
+            *a += if lit { w * albedo } else { Vec3::ZERO };
         }
         if let Some(n) = sums.normal.get_mut(pixel) {
-            *n += si.ns;
+            *n += w * si.ns;
         }
         if let Some(d) = sums.depth.get_mut(pixel) {
             // Camera ray directions are unit, so t is the distance.
-            *d += hit.t;
+            *d += w * hit.t;
         }
     }
     if !lit {
         return;
     }
-    sums.radiance[pixel] += path.throughput * emission;
+    sums.pending[pixel] += path.throughput * emission;
 
     let weight = path.throughput
         * Lambert {
@@ -321,6 +337,7 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
             next_paths.push(PathVertex {
                 pixel: path.pixel,
                 throughput,
+                filter_weight: path.filter_weight,
             });
         }
     }

@@ -11,29 +11,28 @@
 
 pub mod camera;
 pub mod film;
+pub mod filter;
 pub(crate) mod integrator;
 pub mod kernel;
 pub mod partial;
+pub mod progressive;
 pub mod sampler;
 pub mod stats;
 pub mod tiles;
 
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};
+pub use filter::{FilterKind, FilterSpec};
 pub use kernel::{KernelChoice, KernelFlags};
+pub use progressive::{PassRenderer, ProgressiveOutput, StopReason, StopRule, render_progressive};
 pub use sampler::{PixelSampler, PixelSampling};
 pub use stats::{RayCounts, RenderStats};
 
 use crate::accel::{Accel, AccelError, BackendKind, BuildOptions};
-use crate::light::{LightError, LightSet, LightUnits};
-use crate::material::ShadingMaterial;
-use crate::scene::{Camera, Scene, SceneFeatures};
-use crate::texture::{MipMap, TextureFilter};
+use crate::light::{LightError, LightUnits};
+use crate::scene::{Camera, Scene};
+use crate::texture::TextureFilter;
 use glam::Vec3;
-use integrator::{Scratch, TileContext};
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Instant;
 
 /// Largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 1 << 16;
@@ -65,6 +64,8 @@ pub struct RenderSettings {
     pub kernel: KernelChoice,
     /// How textures are filtered (anisotropic by default).
     pub texture_filter: TextureFilter,
+    /// Pixel reconstruction filter.
+    pub filter: FilterSpec,
 }
 
 impl Default for RenderSettings {
@@ -76,11 +77,12 @@ impl Default for RenderSettings {
             seed: 0,
             max_depth: 8,
             threads: 0,
-            sampling: PixelSampling::Stratified,
+            sampling: PixelSampling::Sobol,
             aovs: AovSelection::default(),
             light_units: LightUnits::Radiometric,
             kernel: KernelChoice::Specialised,
             texture_filter: TextureFilter::default(),
+            filter: FilterSpec::default(),
         }
     }
 }
@@ -88,7 +90,7 @@ impl Default for RenderSettings {
 /// A finished render.
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
-    /// Radiance per pixel, W/(m²·sr), box-filtered over the pixel's samples.
+    /// Radiance per pixel, W/(m²·sr), reconstructed with the settings' pixel filter.
     pub image: Image<Vec3>,
     /// The selected auxiliary images.
     pub aovs: Aovs,
@@ -205,13 +207,6 @@ pub fn render_film(
     samples: std::ops::Range<u32>,
     progress: Option<Progress<'_>>,
 ) -> Result<(Film, RenderStats), RenderError> {
-    let RenderInputs {
-        scene,
-        lights,
-        accel,
-        camera,
-        pool,
-    } = *inputs;
     validate(settings)?;
     if samples.start >= samples.end || samples.end > settings.spp {
         return Err(RenderError::Settings(format!(
@@ -219,96 +214,12 @@ pub fn render_film(
             samples.start, samples.end, settings.spp
         )));
     }
-    if accel.triangle_count() != scene.triangle_count() {
-        return Err(RenderError::AccelMismatch {
-            accel: accel.triangle_count(),
-            scene: scene.triangle_count(),
-        });
-    }
-    let camera_rays =
-        CameraRays::new(camera, settings.width, settings.height).map_err(|reason| {
-            RenderError::Camera {
-                name: camera.name.clone(),
-                reason,
-            }
-        })?;
-    let features = SceneFeatures::of(scene);
-    let flags = KernelFlags::for_scene(&features, settings.kernel);
-    // MIP chains are built once per render, only when the kernel reads textures.
-    let mipmaps: Vec<MipMap> = if flags.textures {
-        scene.textures.par_iter().map(MipMap::new).collect()
-    } else {
-        Vec::new()
-    };
-    let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
-    let ctx = TileContext {
-        scene,
-        accel,
-        camera: camera_rays,
-        sampler: PixelSampler::new(settings.sampling, settings.spp, settings.seed),
-        materials: ShadingMaterial::table(scene),
-        lights: LightSet::new(lights, settings.light_units)?,
-        typed_lights: flags.typed_lights,
-        samples: samples.clone(),
-        max_depth: settings.max_depth,
-        aovs: settings.aovs,
-        mipmaps,
-        texture_filter: settings.texture_filter,
-        differentials: features.textures && settings.texture_filter.uses_footprint(),
-        differential_spacing: 1.0 / (settings.spp as f32).sqrt(),
-    };
-    let render_tile = kernel::select(&flags);
-    let own_pool;
-    let pool = match pool {
-        Some(shared) => shared,
-        None => {
-            own_pool = thread_pool(settings.threads, accel.kind())?;
-            &own_pool
-        }
-    };
-
-    let tiles = tiles::tiles(settings.width, settings.height, tiles::TILE_SIZE);
-    let done = AtomicUsize::new(0);
-    let start = Instant::now();
-    let results: Vec<_> = pool.install(|| {
-        tiles
-            .par_iter()
-            .map_init(Scratch::default, |scratch, tile| {
-                let result = render_tile(&ctx, tile, scratch);
-                let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if let Some(report) = progress {
-                    report(finished, tiles.len());
-                }
-                result
-            })
-            .collect()
-    });
-    let elapsed = start.elapsed();
-
-    let mut film = Film::new(
-        settings.width,
-        settings.height,
-        samples.len() as u32,
-        settings.aovs,
-    );
-    let mut rays = RayCounts::default();
-    for (tile, (sums, counts)) in tiles.iter().zip(&results) {
-        film.add_tile(tile, sums);
-        rays += *counts;
-    }
-    Ok((
-        film,
-        RenderStats {
-            elapsed,
-            rays,
-            features,
-            kernel: flags,
-            texture_bytes,
-        },
-    ))
+    let mut renderer = PassRenderer::with_inputs(inputs, settings)?;
+    renderer.render_samples(samples, progress);
+    Ok(renderer.into_film())
 }
 
-fn validate(s: &RenderSettings) -> Result<(), RenderError> {
+pub(crate) fn validate(s: &RenderSettings) -> Result<(), RenderError> {
     let bad = |m: String| Err(RenderError::Settings(m));
     if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
         return bad(format!(

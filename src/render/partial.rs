@@ -85,8 +85,7 @@ pub fn render_partial(
 ) -> Result<(PartialImage, RenderStats), RenderError> {
     let (film, stats): (Film, RenderStats) =
         render_film(inputs, settings, samples.clone(), progress)?;
-    let (radiance_sum, aov_sums, count) = film.into_sums();
-    let weight = Image::filled(settings.width, settings.height, count as f32);
+    let (radiance_sum, aov_sums, weight) = film.into_sums();
     Ok((
         PartialImage {
             spp: settings.spp,

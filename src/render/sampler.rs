@@ -1,9 +1,19 @@
 //! Where inside a pixel each sample goes.
 //!
 //! Deterministic: the position of sample `s` of pixel `(x, y)` depends only on the seed, the
-//! pixel and `s`, never on thread scheduling or tile order, so renders are reproducible. The
-//! sampler sits behind this small type so that a later low-discrepancy sequence (Sobol) can
-//! replace it without touching the integrator.
+//! pixel and `s`, never on thread scheduling or tile order, so renders are reproducible (the
+//! same bytes with 1 thread or many).
+//!
+//! Three sequences:
+//! - [`PixelSampling::Sobol`] (default): Owen-scrambled Sobol points (Burley 2020, crate
+//!   `sobol_burley`), each pixel with its own scramble seed. Any prefix of the sequence is
+//!   well stratified, so progressive rendering can stop after any number of samples.
+//! - [`PixelSampling::Stratified`]: jittered strata; needs the sample count up front.
+//! - [`PixelSampling::Independent`]: uniform random points, the baseline a low-discrepancy
+//!   sequence is measured against.
+//!
+//! Dimensions are assigned per use ([`DIM_PIXEL`]); the returned point is uniform in `[0, 1)²`
+//! and the pixel filter ([`super::filter`]) turns it into a film position and a weight.
 
 use glam::Vec2;
 use rand::{Rng, SeedableRng};
@@ -14,10 +24,65 @@ use rand_pcg::Pcg32;
 pub enum PixelSampling {
     /// Stratified jitter: the pixel is split into `spp` cells (as square a grid as `spp`
     /// allows) and each sample is uniformly random inside its own cell.
-    #[default]
     Stratified,
     /// Every sample at the pixel centre (for closed-form tests; aliased images).
     PixelCenter,
+    /// Owen-scrambled Sobol points, scrambled per pixel; progressive (any prefix is good).
+    #[default]
+    Sobol,
+    /// Independent uniform random points (plain Monte Carlo, for comparison).
+    Independent,
+}
+
+/// Sobol dimensions of the pixel position (x, y). Later uses (lens, light) take the next ones.
+pub const DIM_PIXEL: u32 = 0;
+
+/// Sobol points per scramble seed: `sobol_burley` indexes at most 2¹⁶ samples, so longer
+/// renders move to a fresh, independently scrambled sequence every 2¹⁶ samples.
+const SOBOL_BLOCK: u32 = 1 << 16;
+
+impl PixelSampling {
+    /// Every sampling mode, for listings and comparisons.
+    pub const ALL: [PixelSampling; 4] = [
+        PixelSampling::Sobol,
+        PixelSampling::Stratified,
+        PixelSampling::Independent,
+        PixelSampling::PixelCenter,
+    ];
+
+    /// The mode's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            PixelSampling::Stratified => "stratified",
+            PixelSampling::PixelCenter => "center",
+            PixelSampling::Sobol => "sobol",
+            PixelSampling::Independent => "independent",
+        }
+    }
+
+    /// Whether sample `s` is as good at every prefix length (needed by progressive rendering;
+    /// stratified jitter only stratifies the whole count it was built for).
+    pub fn progressive(self) -> bool {
+        !matches!(self, PixelSampling::Stratified)
+    }
+}
+
+impl std::fmt::Display for PixelSampling {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for PixelSampling {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| {
+                format!("unknown sampler '{s}': use sobol, stratified, independent or center")
+            })
+    }
 }
 
 /// Sample positions for one render.
@@ -69,6 +134,19 @@ impl PixelSampler {
                 // Rounding in the division can reach exactly 1.0; keep the sample in its pixel.
                 p.min(Vec2::splat(1.0 - f32::EPSILON / 2.0))
             }
+            PixelSampling::Independent => {
+                let mut rng = Pcg32::seed_from_u64(sample_key(self.seed, x, y, sample));
+                Vec2::new(rng.random::<f32>(), rng.random::<f32>())
+            }
+            PixelSampling::Sobol => {
+                let block = sample / SOBOL_BLOCK;
+                let scramble = pixel_scramble(self.seed, x, y, block);
+                let index = sample % SOBOL_BLOCK;
+                Vec2::new(
+                    sobol_burley::sample(index, DIM_PIXEL, scramble),
+                    sobol_burley::sample(index, DIM_PIXEL + 1, scramble),
+                )
+            }
         }
     }
 }
@@ -82,6 +160,18 @@ fn sample_key(seed: u64, x: u32, y: u32, sample: u32) -> u64 {
     let pixel_sample =
         ((x as u64 & 0xF_FFFF) << 44) | ((y as u64 & 0xF_FFFF) << 24) | (sample as u64 & 0xFF_FFFF);
     pixel_sample ^ seed.wrapping_mul(GOLDEN).rotate_left(17)
+}
+
+/// The Sobol scramble seed of pixel `(x, y)` (and sample block): a full-avalanche hash of
+/// the render seed and the pixel, so neighbouring pixels get unrelated scrambles.
+#[inline]
+fn pixel_scramble(seed: u64, x: u32, y: u32, block: u32) -> u32 {
+    let mut h = sample_key(seed, x, y, block);
+    // SplitMix64's finaliser: every input bit affects every output bit.
+    h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    h ^= h >> 31;
+    (h ^ (h >> 32)) as u32
 }
 
 #[cfg(test)]
@@ -102,6 +192,39 @@ mod tests {
         let other_seed = PixelSampler::new(PixelSampling::Stratified, 8, 43);
         assert_ne!(sampler.offset(3, 5, 0), other_seed.offset(3, 5, 0));
         assert_ne!(sampler.offset(3, 5, 0), sampler.offset(5, 3, 0));
+    }
+
+    #[test]
+    fn sobol_is_reproducible_in_range_and_differs_by_seed_and_pixel() {
+        let a = PixelSampler::new(PixelSampling::Sobol, 1, 7);
+        let b = PixelSampler::new(PixelSampling::Sobol, 1, 8);
+        for s in [0, 1, 5, SOBOL_BLOCK - 1, SOBOL_BLOCK, 3 * SOBOL_BLOCK + 2] {
+            let p = a.offset(2, 9, s);
+            assert!(p.cmpge(Vec2::ZERO).all() && p.cmplt(Vec2::ONE).all(), "{p}");
+            assert_eq!(p, a.offset(2, 9, s));
+        }
+        assert_ne!(a.offset(2, 9, 0), b.offset(2, 9, 0));
+        assert_ne!(a.offset(2, 9, 0), a.offset(9, 2, 0));
+    }
+
+    #[test]
+    fn sobol_prefixes_are_stratified() {
+        // The first 16 points of a (0, 2)-sequence put exactly one point in each 4×4 cell.
+        let sampler = PixelSampler::new(PixelSampling::Sobol, 16, 3);
+        let mut cells = [0u8; 16];
+        for s in 0..16 {
+            let p = sampler.offset(11, 4, s) * 4.0;
+            cells[p.y as usize * 4 + p.x as usize] += 1;
+        }
+        assert_eq!(cells, [1; 16]);
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for mode in PixelSampling::ALL {
+            assert_eq!(mode.name().parse::<PixelSampling>(), Ok(mode));
+        }
+        assert!("halton".parse::<PixelSampling>().is_err());
     }
 
     #[test]

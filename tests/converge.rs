@@ -1,0 +1,57 @@
+//! `glint converge`: writes the CSV and the plot, one curve of rows per setting, and refuses a
+//! bad reference with a message naming it.
+
+use glint::accel::BackendKind;
+use glint::cli::converge::{ConvergeArgs, run};
+use glint::render::{FilterSpec, PixelSampling};
+
+fn args(out: std::path::PathBuf) -> ConvergeArgs {
+    ConvergeArgs {
+        scene: None,
+        reference: None,
+        out,
+        max_spp: 4,
+        reference_spp: 64,
+        width: 32,
+        height: 18,
+        backends: vec![BackendKind::Bvh],
+        samplers: vec![PixelSampling::Sobol, PixelSampling::Independent],
+        filters: vec![FilterSpec::default()],
+        seed: 1,
+        threads: 2,
+        quiet: true,
+    }
+}
+
+#[test]
+fn writes_csv_and_plot_for_each_setting() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("run");
+    run(args(out.clone())).expect("converge");
+    let csv = std::fs::read_to_string(out.join("converge.csv")).expect("csv");
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("setting,spp,seconds,rays,rmse,rel_mse"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // Two settings × (1, 2, 4) spp.
+    assert_eq!(rows.len(), 6, "{csv}");
+    for row in &rows {
+        assert_eq!(row.len(), 6, "{row:?}");
+        let rmse: f64 = row[4].parse().expect("rmse");
+        assert!(rmse > 0.0 && rmse.is_finite(), "{row:?}");
+    }
+    assert!(rows.iter().any(|r| r[0] == "bvh sobol box:0.5"));
+    assert!(rows.iter().any(|r| r[0] == "bvh independent box:0.5"));
+    let plot = image::open(out.join("converge.png")).expect("plot decodes");
+    assert_eq!((plot.width(), plot.height()), glint::converge::PLOT_SIZE);
+}
+
+#[test]
+fn a_bad_reference_is_named() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let bogus = dir.path().join("ref.exr");
+    std::fs::write(&bogus, b"not an exr").expect("write");
+    let mut a = args(dir.path().join("run"));
+    a.reference = Some(bogus.clone());
+    let err = run(a).expect_err("bad reference").to_string();
+    assert!(err.contains("ref.exr"), "{err}");
+}
