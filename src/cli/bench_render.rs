@@ -203,13 +203,7 @@ pub fn raw_trace(
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<RawTrace, RenderError> {
-    let camera_rays =
-        CameraRays::new(camera, settings.width, settings.height).map_err(|reason| {
-            RenderError::Camera {
-                name: camera.name.clone(),
-                reason,
-            }
-        })?;
+    let camera_rays = CameraRays::for_render(camera, settings.width, settings.height)?;
     let sampler = PixelSampler::new(settings.sampling, settings.spp, settings.seed);
     let pool = render::thread_pool(settings.threads, accel.kind())?;
     let tiles = render::tiles::tiles(settings.width, settings.height, render::tiles::TILE_SIZE);

@@ -41,6 +41,19 @@ enum Kind {
 }
 
 impl CameraRays {
+    /// [`CameraRays::new`] with its error as a [`RenderError`](super::RenderError) naming
+    /// the camera.
+    pub fn for_render(
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, super::RenderError> {
+        Self::new(camera, width, height).map_err(|reason| super::RenderError::Camera {
+            name: camera.name.clone(),
+            reason,
+        })
+    }
+
     /// Rays for `camera` over a `width × height` image; an error names what is unusable.
     pub fn new(camera: &Camera, width: u32, height: u32) -> Result<Self, String> {
         if width == 0 || height == 0 {

@@ -168,13 +168,7 @@ pub fn render(
     settings: &RenderSettings,
     progress: Option<Progress<'_>>,
 ) -> Result<RenderOutput, RenderError> {
-    let inputs = RenderInputs {
-        scene,
-        lights: &scene.lights,
-        accel,
-        camera,
-        pool: None,
-    };
+    let inputs = RenderInputs::of_scene(scene, accel, camera);
     let (film, stats) = render_film(&inputs, settings, 0..settings.spp, progress)?;
     let (image, aovs) = film.resolve();
     Ok(RenderOutput { image, aovs, stats })
@@ -196,6 +190,19 @@ pub struct RenderInputs<'a> {
     pub camera: &'a Camera,
     /// The pool to render on; `None` starts one of [`RenderSettings::threads`] threads.
     pub pool: Option<&'a rayon::ThreadPool>,
+}
+
+impl<'a> RenderInputs<'a> {
+    /// The scene with its own lights, on a pool of the render's own.
+    pub fn of_scene(scene: &'a Scene, accel: &'a dyn Accel, camera: &'a Camera) -> Self {
+        Self {
+            scene,
+            lights: &scene.lights,
+            accel,
+            camera,
+            pool: None,
+        }
+    }
 }
 
 /// Renders the samples with indices in `samples` (of `settings.spp`, whose strata and seed

@@ -78,14 +78,7 @@ impl<'a> PassRenderer<'a> {
         camera: &'a Camera,
         settings: &RenderSettings,
     ) -> Result<Self, RenderError> {
-        let inputs = RenderInputs {
-            scene,
-            lights: &scene.lights,
-            accel,
-            camera,
-            pool: None,
-        };
-        Self::with_inputs(&inputs, settings)
+        Self::with_inputs(&RenderInputs::of_scene(scene, accel, camera), settings)
     }
 
     /// Prepares a render from [`RenderInputs`]: given lights, and optionally a shared pool.
@@ -108,13 +101,7 @@ impl<'a> PassRenderer<'a> {
                 scene: scene.triangle_count(),
             });
         }
-        let camera_rays =
-            CameraRays::new(camera, settings.width, settings.height).map_err(|reason| {
-                RenderError::Camera {
-                    name: camera.name.clone(),
-                    reason,
-                }
-            })?;
+        let camera_rays = CameraRays::for_render(camera, settings.width, settings.height)?;
         let features = SceneFeatures::of(scene);
         let flags = KernelFlags::for_scene(&features, settings.kernel);
         // MIP chains are built once per render, only when the kernel reads textures.
@@ -303,13 +290,7 @@ pub fn render_progressive(
     rule: &StopRule,
     progress: Option<Progress<'_>>,
 ) -> Result<ProgressiveOutput, RenderError> {
-    let inputs = RenderInputs {
-        scene,
-        lights: &scene.lights,
-        accel,
-        camera,
-        pool: None,
-    };
+    let inputs = RenderInputs::of_scene(scene, accel, camera);
     render_progressive_with(&inputs, settings, rule, progress)
 }
 
