@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Proves glint's Embree 4 path on a machine whose system Embree is 3 (Debian 12), with nothing
 # installed system-wide:
-#   1. Embree 4 headers: the ones vendored by the crates.io crate embree4-sys, fetched by cargo.
+#   1. Embree 4 headers: the ones vendored by the Rust crate embree4-sys, fetched by cargo.
 #   2. ffi/shim.c and ffi/shim_test.c compile against them (-Wall -Wextra -Wpedantic -Werror).
 #   3. A real libembree4 (and the libtbb it needs) from the PyPI wheel embreex (pip download).
 #   4. ffi/shim_test.c, the shim's C-level contract (library version, bytes written past our
