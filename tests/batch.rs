@@ -343,6 +343,7 @@ fn merged_parts_equal_the_single_render_with_the_same_seed() {
         accel: accel.as_ref(),
         camera: &camera,
         pool: None,
+        mipmaps: None,
     };
     let part = |r: std::ops::Range<u32>| render_partial(&inputs, &settings, r, None).unwrap().0;
     // Given out of order: the merge sorts by sample range.

@@ -234,36 +234,9 @@ impl EmbreeAccel {
         rays: &[Ray],
         hits: &mut [Option<Hit>],
         coherence: Coherence,
-        query: unsafe extern "C" fn(
-            *const ffi::glint_scene,
-            *const ffi::glint_ray,
-            *mut ffi::glint_hit,
-            usize,
-            i32,
-        ),
+        query: QueryFn<ffi::glint_hit>,
     ) {
-        let coherent = (coherence == Coherence::Coherent) as i32;
-        let mut raw_rays = [ffi::glint_ray::default(); CHUNK];
-        let mut raw_hits = [ffi::glint_hit::default(); CHUNK];
-        for (ray_chunk, hit_chunk) in rays.chunks(CHUNK).zip(hits.chunks_mut(CHUNK)) {
-            let n = ray_chunk.len().min(hit_chunk.len());
-            for (dst, src) in raw_rays.iter_mut().zip(ray_chunk) {
-                *dst = to_raw(src);
-            }
-            // SAFETY: both buffers hold at least n elements; the scene is committed.
-            unsafe {
-                query(
-                    self.raw.as_ptr(),
-                    raw_rays.as_ptr(),
-                    raw_hits.as_mut_ptr(),
-                    n,
-                    coherent,
-                )
-            };
-            for (dst, src) in hit_chunk.iter_mut().zip(&raw_hits[..n]) {
-                *dst = from_raw(src);
-            }
-        }
+        self.query_chunked(rays, hits, coherence, query, from_raw);
     }
 
     fn query_occlusion(
@@ -271,17 +244,24 @@ impl EmbreeAccel {
         rays: &[Ray],
         out: &mut [bool],
         coherence: Coherence,
-        query: unsafe extern "C" fn(
-            *const ffi::glint_scene,
-            *const ffi::glint_ray,
-            *mut u8,
-            usize,
-            i32,
-        ),
+        query: QueryFn<u8>,
+    ) {
+        self.query_chunked(rays, out, coherence, query, |o| *o != 0);
+    }
+
+    /// Runs `query` over `rays` in stack-allocated chunks of [`CHUNK`] and converts each raw
+    /// answer into `out`.
+    fn query_chunked<Raw: Copy + Default, Out>(
+        &self,
+        rays: &[Ray],
+        out: &mut [Out],
+        coherence: Coherence,
+        query: QueryFn<Raw>,
+        convert: impl Fn(&Raw) -> Out,
     ) {
         let coherent = (coherence == Coherence::Coherent) as i32;
         let mut raw_rays = [ffi::glint_ray::default(); CHUNK];
-        let mut raw_out = [0u8; CHUNK];
+        let mut raw_out = [Raw::default(); CHUNK];
         for (ray_chunk, out_chunk) in rays.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
             let n = ray_chunk.len().min(out_chunk.len());
             for (dst, src) in raw_rays.iter_mut().zip(ray_chunk) {
@@ -298,11 +278,15 @@ impl EmbreeAccel {
                 )
             };
             for (dst, src) in out_chunk.iter_mut().zip(&raw_out[..n]) {
-                *dst = *src != 0;
+                *dst = convert(src);
             }
         }
     }
 }
+
+/// A shim query over `n` rays writing one `Raw` answer per ray.
+type QueryFn<Raw> =
+    unsafe extern "C" fn(*const ffi::glint_scene, *const ffi::glint_ray, *mut Raw, usize, i32);
 
 impl Drop for EmbreeAccel {
     fn drop(&mut self) {

@@ -99,9 +99,12 @@ pub fn run(
                 continue;
             }
         };
+        // One set of MIP chains per scene, shared by the group's jobs.
+        let mipmaps = crate::render::build_mipmaps(&scene);
         let prepared = Prepared {
             scene: &scene,
             accel: accel.as_ref(),
+            mipmaps: &mipmaps,
         };
         let done: Vec<JobReport> = pool.install(|| {
             group

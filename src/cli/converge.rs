@@ -82,15 +82,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
             args.out.display()
         ))
     })?;
-    let mut scene = match &args.scene {
-        Some(path) => scene::gltf::load(path),
-        None => scene::demo::demo_scene(),
-    }
-    .map_err(CliError::from_display)?;
-    let label = match &args.scene {
-        Some(path) => path.display().to_string(),
-        None => "demo scene".to_string(),
-    };
+    let (mut scene, label) = super::render::load_scene(args.scene.as_deref())?;
     let camera = scene
         .cameras
         .first()

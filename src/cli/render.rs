@@ -128,6 +128,8 @@ pub struct Prepared<'a> {
     pub scene: &'a Scene,
     /// Its ray-query structure.
     pub accel: &'a dyn Accel,
+    /// Its MIP chains ([`render::build_mipmaps`]), shared by every render of the scene.
+    pub mipmaps: &'a [crate::texture::MipMap],
 }
 
 /// What [`render_prepared`] rendered and wrote.
@@ -159,15 +161,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         }
     };
 
-    let scene = match &args.scene {
-        Some(path) => scene::gltf::load(path),
-        None => scene::demo::demo_scene(),
-    }
-    .map_err(CliError::from_display)?;
-    let label = match &args.scene {
-        Some(path) => path.display().to_string(),
-        None => "demo scene".to_string(),
-    };
+    let (scene, label) = load_scene(args.scene.as_deref())?;
     // Checked before the (possibly long) build of the ray-query structure.
     choose_camera(&scene, args.camera, &|_| {})?;
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())
@@ -175,9 +169,11 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
 
     let bar = DelayedProgress::new(args.quiet);
     let report = |done: usize, total: usize| bar.update(done, total);
+    let mipmaps = render::build_mipmaps(&scene);
     let prepared = Prepared {
         scene: &scene,
         accel: accel.as_ref(),
+        mipmaps: &mipmaps,
     };
     let result = render_prepared(&args, prepared, None, None, Some(&report), &say);
     bar.finish();
@@ -195,6 +191,18 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         done.note
     ));
     Ok(())
+}
+
+/// Loads `path`, or the embedded demo scene without one, with the label that names it in
+/// messages.
+pub fn load_scene(path: Option<&std::path::Path>) -> Result<(Scene, String), CliError> {
+    let scene = match path {
+        Some(path) => scene::gltf::load(path),
+        None => scene::demo::demo_scene(),
+    }
+    .map_err(CliError::from_display)?;
+    let label = path.map_or_else(|| "demo scene".to_string(), |p| p.display().to_string());
+    Ok((scene, label))
 }
 
 /// Renders a prepared scene as `args` asks and writes the output (path from
@@ -236,6 +244,7 @@ pub fn render_prepared(
         accel: prepared.accel,
         camera: &camera,
         pool,
+        mipmaps: Some(prepared.mipmaps),
     };
     if let Some(samples) = partial_samples(args)? {
         let (part, stats) =

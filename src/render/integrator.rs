@@ -49,7 +49,7 @@ pub(crate) struct TileContext<'a> {
     pub max_depth: u32,
     pub aovs: AovSelection,
     /// MIP chains of `scene.textures`, index-aligned (empty when the kernel reads no textures).
-    pub mipmaps: Vec<MipMap>,
+    pub mipmaps: std::borrow::Cow<'a, [MipMap]>,
     /// How textures are filtered.
     pub texture_filter: TextureFilter,
     /// Whether rays carry differentials: the scene has textures and the filter reads

@@ -190,6 +190,20 @@ pub struct RenderInputs<'a> {
     pub camera: &'a Camera,
     /// The pool to render on; `None` starts one of [`RenderSettings::threads`] threads.
     pub pool: Option<&'a rayon::ThreadPool>,
+    /// The scene's MIP chains from [`build_mipmaps`], built once at load and shared by every
+    /// render of the scene; `None` builds them for this render (when it reads textures).
+    pub mipmaps: Option<&'a [crate::texture::MipMap]>,
+}
+
+/// The MIP chains of every texture of `scene`, index-aligned with `scene.textures`: work that
+/// depends only on the scene, done once at load.
+pub fn build_mipmaps(scene: &Scene) -> Vec<crate::texture::MipMap> {
+    use rayon::prelude::*;
+    scene
+        .textures
+        .par_iter()
+        .map(crate::texture::MipMap::new)
+        .collect()
 }
 
 impl<'a> RenderInputs<'a> {
@@ -201,6 +215,7 @@ impl<'a> RenderInputs<'a> {
             accel,
             camera,
             pool: None,
+            mipmaps: None,
         }
     }
 }

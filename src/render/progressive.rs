@@ -36,6 +36,7 @@ use crate::scene::{Camera, Scene, SceneFeatures};
 use crate::texture::MipMap;
 use glam::Vec3;
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
@@ -92,6 +93,7 @@ impl<'a> PassRenderer<'a> {
             accel,
             camera,
             pool,
+            mipmaps,
         } = *inputs;
         validate(settings)?;
         settings.filter.validate().map_err(RenderError::Settings)?;
@@ -104,11 +106,12 @@ impl<'a> PassRenderer<'a> {
         let camera_rays = CameraRays::for_render(camera, settings.width, settings.height)?;
         let features = SceneFeatures::of(scene);
         let flags = KernelFlags::for_scene(&features, settings.kernel);
-        // MIP chains are built once per render, only when the kernel reads textures.
-        let mipmaps: Vec<MipMap> = if flags.textures {
-            scene.textures.par_iter().map(MipMap::new).collect()
-        } else {
-            Vec::new()
+        // MIP chains only when the kernel reads textures: the caller's, built at load, else
+        // this render's own.
+        let mipmaps: Cow<'a, [MipMap]> = match (flags.textures, mipmaps) {
+            (false, _) => Cow::Borrowed(&[]),
+            (true, Some(shared)) => Cow::Borrowed(shared),
+            (true, None) => Cow::Owned(super::build_mipmaps(scene)),
         };
         let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
         let ctx = TileContext {
