@@ -9,6 +9,7 @@
 pub mod accel;
 pub mod batch;
 pub mod bench;
+pub mod bsdf;
 pub mod cli;
 pub mod converge;
 pub mod geometry;
@@ -17,5 +18,6 @@ pub mod material;
 pub mod output;
 pub mod procedural;
 pub mod render;
+pub mod sampling;
 pub mod scene;
 pub mod texture;

@@ -1,0 +1,1 @@
+//! Discrete and piecewise-constant distributions (filled in by the light-sampling work).
