@@ -1,0 +1,222 @@
+//! Byte identity of glint's images across refactors: renders the demo and every shared asset
+//! through the built binary (both backends, small size, fixed seed) and compares a hash of each
+//! output file against hashes recorded from an earlier commit. A changed hash means the change
+//! altered what glint renders; if that is intended, re-record with `GLINT_RECORD_HASHES=1`
+//! (prints the new table) and say why in the commit.
+//!
+//! The outputs cover the plain render path (PNG bytes, and EXR float bits with the albedo,
+//! normal and depth AOVs), a partial render (`--sample-range`), a progressive render stopped by
+//! its sample cap, photometric `--light`s, and a batch job with a camera placed by position.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// 64-bit FNV-1a: stable across Rust versions and platforms (unlike `DefaultHasher`).
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+fn shared(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/scenes")
+        .join(rel)
+}
+
+fn glint(args: &[&str], cwd: &Path) {
+    let out = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run glint");
+    assert!(
+        out.status.success(),
+        "glint {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn hash_file(path: &Path) -> u64 {
+    fnv1a(&std::fs::read(path).expect("read output"))
+}
+
+/// Hashes recorded from commit 4b4f6f1 (the base of the job-model refactor). (the base of the job-model refactor).
+const EXPECTED: &[(&str, u64)] = &[
+    ("demo/embree/png", 0x73c7b2becc4a4b83),
+    ("demo/embree/exr", 0x5541297641018996),
+    ("BoxTextured/embree/png", 0x993457117cb6631a),
+    ("BoxTextured/embree/exr", 0xbad31c66443d6c52),
+    ("Cameras/embree/png", 0x84f471709c84416f),
+    ("Cameras/embree/exr", 0xec7670cafdbd5dd0),
+    ("Suzanne/embree/png", 0x3f412146466aca6f),
+    ("Suzanne/embree/exr", 0x2a6346390526364b),
+    ("DamagedHelmet/embree/png", 0x1da7c1e21db77d3b),
+    ("DamagedHelmet/embree/exr", 0xbfd623fd42a0662f),
+    ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
+    ("2CylinderEngine/embree/exr", 0x7ba944f7b63e8c7a),
+    ("demo/embree/partial", 0xeddef1402540b829),
+    ("demo/embree/progressive", 0xd71ce2c5fc1791aa),
+    ("demo/embree/photometric", 0x69abe2ae73d446d7),
+    ("batch/embree", 0x15cac39747a5ecf4),
+    ("demo/bvh/png", 0x73c7b2becc4a4b83),
+    ("demo/bvh/exr", 0x0ad8ff89d391b85b),
+    ("BoxTextured/bvh/png", 0x993457117cb6631a),
+    ("BoxTextured/bvh/exr", 0x4db0600baa4b3119),
+    ("Cameras/bvh/png", 0x84f471709c84416f),
+    ("Cameras/bvh/exr", 0x4a2a966ffdc0eabf),
+    ("Suzanne/bvh/png", 0x3f412146466aca6f),
+    ("Suzanne/bvh/exr", 0x62ccef9ccb92e89f),
+    ("DamagedHelmet/bvh/png", 0xa543076bb5bb05db),
+    ("DamagedHelmet/bvh/exr", 0xaaa2966e880fc93e),
+    ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
+    ("2CylinderEngine/bvh/exr", 0x26616c4e1be72457),
+    ("demo/bvh/partial", 0x6deb73bb95fac2c1),
+    ("demo/bvh/progressive", 0x0a538cde56240b3c),
+    ("demo/bvh/photometric", 0x98d214ccaeb8e71e),
+    ("batch/bvh", 0xdec74506be8a6a9d),
+];
+
+/// A partial EXR's hash over its decoded channels (name and f32 bits) and its glint
+/// attributes, sorted: the file's attribute order follows a hash map and varies run to run.
+fn hash_partial(path: &Path) -> u64 {
+    let image = exr::prelude::read_all_flat_layers_from_file(path).expect("read partial EXR");
+    let layer = &image.layer_data[0];
+    let mut bytes = Vec::new();
+    for channel in &layer.channel_data.list {
+        bytes.extend(channel.name.to_string().as_bytes());
+        for v in channel.sample_data.values_as_f32() {
+            bytes.extend(v.to_bits().to_le_bytes());
+        }
+    }
+    let mut attributes: Vec<String> = layer
+        .attributes
+        .other
+        .iter()
+        .map(|(k, v)| format!("{k}={v:?}"))
+        .collect();
+    attributes.sort();
+    bytes.extend(attributes.concat().as_bytes());
+    fnv1a(&bytes)
+}
+
+fn backends() -> Vec<&'static str> {
+    if cfg!(feature = "embree") {
+        vec!["embree", "bvh"]
+    } else {
+        vec!["bvh"]
+    }
+}
+
+#[test]
+fn images_are_byte_identical_to_the_recorded_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scenes: [(&str, Option<PathBuf>); 6] = [
+        ("demo", None),
+        ("BoxTextured", Some(shared("BoxTextured/BoxTextured.gltf"))),
+        ("Cameras", Some(shared("Cameras/Cameras.gltf"))),
+        ("Suzanne", Some(shared("Suzanne/glTF/Suzanne.gltf"))),
+        (
+            "DamagedHelmet",
+            Some(shared("DamagedHelmet/glTF/DamagedHelmet.gltf")),
+        ),
+        (
+            "2CylinderEngine",
+            Some(shared("2CylinderEngine/2CylinderEngine.glb")),
+        ),
+    ];
+    let common = [
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--spp",
+        "4",
+        "--seed",
+        "7",
+        "--threads",
+        "2",
+        "--quiet",
+    ];
+    let mut got: Vec<(String, u64)> = Vec::new();
+    for backend in backends() {
+        for (name, path) in &scenes {
+            let scene: Vec<&str> = path.iter().map(|p| p.to_str().unwrap()).collect();
+            let run = |out: &str, extra: &[&str]| {
+                let mut args = vec!["render"];
+                args.extend(&scene);
+                args.extend(["-o", out, "--backend", backend]);
+                args.extend(common);
+                args.extend(extra);
+                glint(&args, d);
+                hash_file(&d.join(out))
+            };
+            got.push((format!("{name}/{backend}/png"), run("a.png", &[])));
+            got.push((
+                format!("{name}/{backend}/exr"),
+                run("a.exr", &["--aov", "albedo,normal,depth"]),
+            ));
+        }
+        // The demo through the other job paths.
+        let demo = |out: &str, extra: &[&str]| {
+            let mut args = vec!["render", "-o", out, "--backend", backend];
+            args.extend(common);
+            args.extend(extra);
+            glint(&args, d);
+            hash_file(&d.join(out))
+        };
+        got.push((format!("demo/{backend}/partial"), {
+            demo("p.exr", &["--sample-range", "1..3"]);
+            hash_partial(&d.join("p.exr"))
+        }));
+        got.push((
+            format!("demo/{backend}/progressive"),
+            demo("g.exr", &["--target-error", "0.000001", "--max-spp", "8"]),
+        ));
+        got.push((
+            format!("demo/{backend}/photometric"),
+            demo(
+                "l.exr",
+                &[
+                    "--light",
+                    "point:position=0,3,2:intensity=1000",
+                    "--photometric",
+                    "--max-depth",
+                    "2",
+                ],
+            ),
+        ));
+        // A batch job with a placed camera on a shared asset (default lights follow it).
+        let jobs = format!(
+            "[[job]]\nscene = {:?}\noutput = \"b.exr\"\nwidth = 64\nheight = 48\nspp = 4\n\
+             backend = \"{backend}\"\ncamera = {{ position = [0, 1, 4], look_at = [0, 0, 0] }}\n",
+            shared("BoxTextured/BoxTextured.gltf").to_str().unwrap()
+        );
+        std::fs::write(d.join("jobs.toml"), jobs).unwrap();
+        glint(
+            &["batch", "jobs.toml", "--force", "--quiet", "--threads", "2"],
+            d,
+        );
+        got.push((format!("batch/{backend}"), hash_file(&d.join("b.exr"))));
+    }
+    if std::env::var_os("GLINT_RECORD_HASHES").is_some() {
+        for (key, hash) in &got {
+            println!("    (\"{key}\", 0x{hash:016x}),");
+        }
+        return;
+    }
+    let mut mismatches = Vec::new();
+    for (key, hash) in &got {
+        match EXPECTED.iter().find(|(k, _)| k == key) {
+            Some((_, want)) if want == hash => {}
+            Some((_, want)) => mismatches.push(format!("{key}: 0x{hash:016x}, was 0x{want:016x}")),
+            None => mismatches.push(format!("{key}: no recorded hash")),
+        }
+    }
+    assert!(
+        mismatches.is_empty(),
+        "images changed:\n{}",
+        mismatches.join("\n")
+    );
+}
