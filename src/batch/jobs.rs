@@ -9,7 +9,7 @@
 //! job key at once. Relative paths (`scene`, `output`, `lights`) are relative to the job file.
 
 use super::sweep;
-use crate::cli::render::RenderArgs;
+use crate::render::options::RenderArgs;
 use clap::{CommandFactory, Parser};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -37,6 +37,22 @@ impl Job {
     /// The output file (always set: a job must name one).
     pub fn output(&self) -> &Path {
         self.args.output.as_deref().unwrap_or(Path::new(""))
+    }
+
+    /// The library job this batch job stands for: its options, with the placed camera if it
+    /// has one.
+    pub fn to_job(&self) -> Result<crate::render::Job, crate::render::JobError> {
+        let mut job = self.args.to_job()?;
+        if let Some(placed) = &self.camera {
+            job.camera = crate::render::job::CameraChoice::LookAt {
+                name: format!("{} camera", self.origin),
+                position: placed.position,
+                target: placed.look_at,
+                up: placed.up,
+                yfov: placed.yfov_radians,
+            };
+        }
+        Ok(job)
     }
 }
 

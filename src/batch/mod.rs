@@ -7,10 +7,8 @@
 //! - [`runner`]: runs a shard's jobs: shared scene loads, one thread pool, skips complete
 //!   outputs, isolates failures.
 //! - [`report`]: the per-job JSON report.
-//! - [`parts`]: partial EXRs of split renders, for `glint merge`.
 
 pub mod jobs;
-pub mod parts;
 pub mod report;
 pub mod runner;
 pub mod shard;

@@ -16,14 +16,12 @@
 //! image costs far less than rendering it. A failing job (bad scene, bad path, even a panic) is reported and
 //! the others go on.
 
-use super::jobs::{CameraOverride, Job};
+use super::jobs::Job;
 use super::report::{BatchReport, JobReport, JobStatus};
 use super::shard::Shard;
-use crate::accel::{BackendKind, BuildOptions};
-use crate::cli::render::{DEFAULT_ASPECT, DEFAULT_WIDTH, Prepared, choose_camera};
-use crate::render::{self, RenderError};
-use crate::scene::{self, Camera, Projection, Scene};
-use glam::Mat4;
+use crate::accel::BackendKind;
+use crate::render::job::{DEFAULT_ASPECT, DEFAULT_WIDTH, SceneSource};
+use crate::render::{self, PreparedScene, RenderError};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -77,13 +75,14 @@ pub fn run(
         let load_start = Instant::now();
         let first = group[0];
         let prepared = pool.install(|| {
-            let scene = scene::gltf::load(first.scene()).map_err(|e| e.to_string())?;
-            let accel = render::prepare(&scene, first.args.backend, BuildOptions::default())
-                .map_err(|e| format!("{}: {e}", first.scene().display()))?;
-            Ok::<_, String>((scene, accel))
+            PreparedScene::load(
+                &SceneSource::File(first.scene().to_path_buf()),
+                first.args.backend,
+            )
+            .map_err(|e| e.to_string())
         });
         load_seconds += load_start.elapsed().as_secs_f64();
-        let (scene, accel) = match prepared {
+        let prepared = match prepared {
             Ok(ok) => ok,
             Err(message) => {
                 for job in group {
@@ -99,24 +98,18 @@ pub fn run(
                 continue;
             }
         };
-        // One set of MIP chains per scene, shared by the group's jobs.
-        let mipmaps = crate::render::build_mipmaps(&scene);
-        let prepared = Prepared {
-            scene: &scene,
-            accel: accel.as_ref(),
-            mipmaps: &mipmaps,
-        };
         let done: Vec<JobReport> = pool.install(|| {
             group
                 .par_iter()
                 .map(|job| {
                     let job_start = Instant::now();
                     let tick = |done: usize, total: usize| progress.tick(job, done, total);
-                    let result =
-                        catch_unwind(AssertUnwindSafe(|| render_job(job, prepared, &pool, &tick)))
-                            .unwrap_or_else(|_| {
-                                Err("the render panicked (a bug in glint: please report it)".into())
-                            });
+                    let result = catch_unwind(AssertUnwindSafe(|| {
+                        render_job(job, &prepared, &pool, &tick)
+                    }))
+                    .unwrap_or_else(|_| {
+                        Err("the render panicked (a bug in glint: please report it)".into())
+                    });
                     let seconds = job_start.elapsed().as_secs_f64();
                     progress.finish_job(job, result.as_ref().map(|_| ()).map_err(|e| e.as_str()));
                     match result {
@@ -162,10 +155,11 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
     groups
 }
 
-/// Renders one job on the shared pool; the error is one line naming the job's files.
+/// Renders one job on the shared pool; the error is one line naming the job's files (the
+/// report's text).
 fn render_job(
     job: &Job,
-    prepared: Prepared<'_>,
+    prepared: &PreparedScene,
     pool: &rayon::ThreadPool,
     tick: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<render::RenderStats, String> {
@@ -178,58 +172,13 @@ fn render_job(
             )
         })?;
     }
-    let camera = match &job.camera {
-        Some(placed) => Some(placed_camera(job, placed, prepared.scene)?),
-        None => None,
-    };
     let quiet = |_: String| {};
-    let done = crate::cli::render::render_prepared(
-        &job.args,
-        prepared,
-        camera,
-        Some(pool),
-        Some(tick),
-        &quiet,
-    )
-    .map_err(|e| format!("{}: {e}", job.scene().display()))?;
+    let in_scene = |e: render::JobError| format!("{}: {e}", job.scene().display());
+    let render_job = job.to_job().map_err(in_scene)?;
+    // `run` names the scene in its errors already.
+    let done = render::job::run(&render_job, prepared, Some(pool), Some(tick), &quiet)
+        .map_err(|e| e.to_string())?;
     Ok(done.stats)
-}
-
-/// The camera a job places by position; its field of view defaults to the scene camera's
-/// (the one `--camera` picks) or the default camera's.
-fn placed_camera(job: &Job, placed: &CameraOverride, scene: &Scene) -> Result<Camera, String> {
-    let yfov = match placed.yfov_radians {
-        Some(y) => y,
-        None => {
-            let base = choose_camera(scene, job.args.camera, &|_| {}).map_err(|e| e.0)?;
-            match base.projection {
-                Projection::Perspective { yfov, .. } => yfov,
-                Projection::Orthographic { .. } => {
-                    match scene::defaults::default_camera(scene).projection {
-                        Projection::Perspective { yfov, .. } => yfov,
-                        Projection::Orthographic { .. } => 0.8,
-                    }
-                }
-            }
-        }
-    };
-    // glTF cameras look down their −Z with +Y up: the columns are right, up, −forward.
-    let forward = (placed.look_at - placed.position).normalize();
-    let right = forward.cross(placed.up).normalize();
-    let up = right.cross(forward);
-    Ok(Camera {
-        name: format!("{} camera", job.origin),
-        world_from_camera: Mat4::from_cols(
-            right.extend(0.0),
-            up.extend(0.0),
-            (-forward).extend(0.0),
-            placed.position.extend(1.0),
-        ),
-        projection: Projection::Perspective {
-            yfov,
-            aspect_ratio: None,
-        },
-    })
 }
 
 /// Whether the job's output exists and is complete (see the module documentation).

@@ -56,7 +56,7 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
     if let Some(report) = &args.report {
         let folder = report.parent().filter(|p| !p.as_os_str().is_empty());
         if folder.is_some_and(|f| !f.is_dir()) {
-            return Err(CliError(format!(
+            return Err(CliError::Usage(format!(
                 "cannot write the report {}: its folder does not exist; create it first",
                 report.display()
             )));
@@ -86,7 +86,7 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
     if report.all_succeeded() {
         Ok(())
     } else {
-        Err(CliError(format!(
+        Err(CliError::Usage(format!(
             "{} of {} jobs failed{}",
             report.failed,
             report.jobs.len(),

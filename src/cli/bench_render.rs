@@ -374,7 +374,7 @@ pub fn run(args: KernelBenchArgs) -> Result<(), CliError> {
                 .into_iter()
                 .find(|b| b.name() == args.procedural)
                 .ok_or_else(|| {
-                    CliError(format!(
+                    CliError::Usage(format!(
                         "unknown procedural scene '{}': use sphere, terrain or soup",
                         args.procedural
                     ))

@@ -6,6 +6,7 @@
 use super::CliError;
 use crate::accel::{Accel, BackendKind, BuildOptions};
 use crate::converge::{self, Measurement};
+use crate::render::job::SceneSource;
 use crate::render::{self, FilterSpec, Image, PixelSampling, RenderSettings};
 use crate::scene::{self, Camera, Scene};
 use glam::Vec3;
@@ -62,12 +63,12 @@ const REFERENCE_SEED: u64 = 0x0005_EED0_F2EF;
 /// Runs `glint converge`.
 pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
     if args.max_spp == 0 || args.reference_spp == 0 {
-        return Err(CliError(
+        return Err(CliError::Usage(
             "--max-spp and --reference-spp must be at least 1".into(),
         ));
     }
     if args.backends.is_empty() || args.samplers.is_empty() || args.filters.is_empty() {
-        return Err(CliError(
+        return Err(CliError::Usage(
             "give at least one --backends, --samplers and --filters value".into(),
         ));
     }
@@ -77,21 +78,25 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
         }
     };
     std::fs::create_dir_all(&args.out).map_err(|e| {
-        CliError(format!(
+        CliError::Usage(format!(
             "cannot create the output folder {}: {e}; check the path and permissions",
             args.out.display()
         ))
     })?;
-    let (mut scene, label) = super::render::load_scene(args.scene.as_deref())?;
+    let source = match &args.scene {
+        Some(path) => SceneSource::File(path.clone()),
+        None => SceneSource::Demo,
+    };
+    let label = source.label();
+    let mut scene = source.load().map_err(crate::render::JobError::from)?;
+    for added in scene::defaults::complete(&mut scene) {
+        say(added);
+    }
     let camera = scene
         .cameras
         .first()
         .cloned()
         .unwrap_or_else(|| scene::defaults::default_camera(&scene));
-    if scene.lights.is_empty() {
-        scene.lights = scene::defaults::default_lights(&scene, &camera);
-        say("scene has no lights: using the default lights".into());
-    }
     let base = RenderSettings {
         width: args.width,
         height: args.height,
@@ -102,7 +107,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
     let mut accels: Vec<(BackendKind, Box<dyn Accel>)> = Vec::new();
     for &backend in &args.backends {
         let accel = render::prepare(&scene, backend, BuildOptions::default())
-            .map_err(|e| CliError(format!("{label}: {e}")))?;
+            .map_err(|e| CliError::Usage(format!("{label}: {e}")))?;
         accels.push((backend, accel));
     }
 
@@ -141,7 +146,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
                     ..base
                 };
                 let out = render::render(&scene, accels[0].1.as_ref(), &camera, &settings, None)
-                    .map_err(|e| CliError(format!("{label}: {e}")))?;
+                    .map_err(|e| CliError::Usage(format!("{label}: {e}")))?;
                 say(format!(
                     "reference rendered in {:.1} s",
                     out.stats.elapsed.as_secs_f64()
@@ -167,7 +172,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
                         &setting,
                         args.max_spp,
                     )
-                    .map_err(|e| CliError(format!("{label}: {e}")))?,
+                    .map_err(|e| CliError::Usage(format!("{label}: {e}")))?,
                 );
             }
         }

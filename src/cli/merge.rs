@@ -1,7 +1,7 @@
 //! `glint merge`: combine the partial EXRs of a split render into the final image.
 
 use super::CliError;
-use crate::batch::parts::read_partial_exr;
+use crate::output::partial::read_partial_exr;
 use crate::output::{OutputFormat, PngOptions, write_exr, write_png};
 use crate::render::partial;
 use std::path::PathBuf;
@@ -31,7 +31,7 @@ pub fn run(args: MergeArgs) -> Result<(), CliError> {
         .map_err(CliError::from_display)?;
     let (image, aovs) = partial::merge(&parts).map_err(|e| {
         let names: Vec<String> = args.parts.iter().map(|p| p.display().to_string()).collect();
-        CliError(format!("merging {}: {e}", names.join(", ")))
+        CliError::Usage(format!("merging {}: {e}", names.join(", ")))
     })?;
     match format {
         OutputFormat::Exr => write_exr(&args.output, &image, &aovs),

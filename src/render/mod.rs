@@ -1,6 +1,7 @@
 //! The renderer: direct illumination from punctual lights, mirror reflections and emission,
 //! in radiometric units (radiance in W/(m²·sr)).
 //!
+//! - [`job`]: one whole render, scene file to image file ([`Job`], [`PreparedScene`], [`job::run`]).
 //! - [`prepare`]: scene → acceleration structure (reusable across renders).
 //! - [`render`]: one image of a prepared scene through one camera.
 //! - [`camera`], [`sampler`], [`film`], [`tiles`]: the pieces, each a small type.
@@ -13,7 +14,9 @@ pub mod camera;
 pub mod film;
 pub mod filter;
 pub(crate) mod integrator;
+pub mod job;
 pub mod kernel;
+pub mod options;
 pub mod partial;
 pub mod progressive;
 pub mod sampler;
@@ -23,6 +26,7 @@ pub mod tiles;
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};
 pub use filter::{FilterKind, FilterSpec};
+pub use job::{Job, JobError, JobOutput, PreparedScene};
 pub use kernel::{KernelChoice, KernelFlags};
 pub use progressive::{PassRenderer, ProgressiveOutput, StopReason, StopRule, render_progressive};
 pub use sampler::{PixelSampler, PixelSampling};

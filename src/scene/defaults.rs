@@ -10,6 +10,11 @@
 //! box centred on that point (or the origin). A flat box (zero thickness) needs no special
 //! case: its diagonal is still positive.
 //!
+//! # Completion ([`camera_for`], [`lights_for`], [`complete`])
+//! The one place where a scene is completed: a render's camera is the one asked for, else the
+//! scene's first, else the default camera; its lights are the scene's plus any given, else
+//! the default lights. Each says what it added, for the user to see.
+//!
 //! # Default light ([`default_lights`])
 //! One directional light "over the camera's shoulder": it arrives from the direction
 //! normalise(up + 0.5 · left + back) of the camera's own frame (up = camera +Y, left =
@@ -19,7 +24,7 @@
 //! radiance 3/π ≈ 0.95 W/(m²·sr), bright but not clipped at exposure 0.
 
 use super::{Camera, Light, Projection, Scene};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 /// Vertical field of view of the default camera, degrees.
 pub const DEFAULT_YFOV_DEGREES: f32 = 40.0;
@@ -48,23 +53,17 @@ pub fn default_camera(scene: &Scene) -> Camera {
     let distance = radius / (0.5 * yfov).sin();
     let back = DEFAULT_VIEW_FROM.normalize();
     let eye = centre + back * distance;
-    // glTF's camera frame: looking down −Z (so +Z points back at the eye), +Y up. The view
-    // direction is never vertical, so world +Y gives a well-defined right axis.
-    let right = Vec3::Y.cross(back).normalize();
-    let up = back.cross(right);
-    Camera {
-        name: "default camera".into(),
-        world_from_camera: Mat4::from_cols(
-            right.extend(0.0),
-            up.extend(0.0),
-            back.extend(0.0),
-            eye.extend(1.0),
-        ),
-        projection: Projection::Perspective {
+    // The view direction is never vertical, so world +Y gives a well-defined right axis.
+    Camera::looking_along(
+        "default camera",
+        eye,
+        -back,
+        Vec3::Y,
+        Projection::Perspective {
             yfov,
             aspect_ratio: None,
         },
-    }
+    )
 }
 
 /// The lights given to a scene that has none, placed relative to `camera` (placement in the
@@ -290,4 +289,96 @@ mod tests {
         assert!(describe_lights(&lights).contains("E = 3 W/m²"));
         assert!(describe_camera(&camera).contains("yfov 40°"));
     }
+}
+
+/// A value completion chose, and the announcement of what it added (`None` when the scene
+/// supplied it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Completed<T> {
+    /// The camera or light list to render with.
+    pub value: T,
+    /// What was added, e.g. [`describe_camera`]'s line; `None` if nothing was.
+    pub added: Option<String>,
+}
+
+/// A camera index the scene does not have.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "--camera {index}: the scene has {count} camera(s){}",
+    if *count == 0 {
+        "; leave out --camera to use a default one".to_string()
+    } else {
+        format!("; use 0 to {}", count - 1)
+    }
+)]
+pub struct NoSuchCamera {
+    /// The index asked for.
+    pub index: usize,
+    /// How many cameras the scene has.
+    pub count: usize,
+}
+
+/// The camera to render `scene` through: camera `index`, or without one the scene's first
+/// camera, or the [`default_camera`] when it has none.
+pub fn camera_for(scene: &Scene, index: Option<usize>) -> Result<Completed<Camera>, NoSuchCamera> {
+    match index {
+        Some(index) => scene
+            .cameras
+            .get(index)
+            .cloned()
+            .map(|value| Completed { value, added: None })
+            .ok_or(NoSuchCamera {
+                index,
+                count: scene.cameras.len(),
+            }),
+        None => Ok(match scene.cameras.first() {
+            Some(camera) => Completed {
+                value: camera.clone(),
+                added: None,
+            },
+            None => {
+                let value = default_camera(scene);
+                Completed {
+                    added: Some(describe_camera(&value)),
+                    value,
+                }
+            }
+        }),
+    }
+}
+
+/// The lights to render `scene` with: its own followed by `extra`, or the [`default_lights`]
+/// (placed relative to `camera`) when both are empty.
+pub fn lights_for(scene: &Scene, extra: Vec<Light>, camera: &Camera) -> Completed<Vec<Light>> {
+    if scene.lights.is_empty() && extra.is_empty() {
+        let value = default_lights(scene, camera);
+        return Completed {
+            added: Some(describe_lights(&value)),
+            value,
+        };
+    }
+    let mut value = scene.lights.clone();
+    value.extend(extra);
+    Completed { value, added: None }
+}
+
+/// Completes `scene` in place for renders that take its first camera and its lights: adds the
+/// default camera if it has none and the default lights if it has none. Returns the
+/// announcements of what was added.
+pub fn complete(scene: &mut Scene) -> Vec<String> {
+    let camera = camera_for(scene, None).unwrap_or_else(|_| Completed {
+        value: default_camera(scene),
+        added: None,
+    });
+    let lights = lights_for(scene, Vec::new(), &camera.value);
+    let mut added = Vec::new();
+    if let Some(note) = camera.added {
+        scene.cameras.push(camera.value);
+        added.push(note);
+    }
+    if let Some(note) = lights.added {
+        scene.lights = lights.value;
+        added.push(note);
+    }
+    added
 }

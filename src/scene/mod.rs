@@ -187,6 +187,38 @@ pub struct Camera {
     pub projection: Projection,
 }
 
+impl Camera {
+    /// A perspective camera at `eye` looking at `target`, with `up` appearing up in the image:
+    /// the one place glint builds a look-at frame (see [`Camera::looking_along`]).
+    pub fn look_at(name: &str, eye: Vec3, target: Vec3, up: Vec3, projection: Projection) -> Self {
+        Self::looking_along(name, eye, (target - eye).normalize(), up, projection)
+    }
+
+    /// A camera at `eye` looking along the unit vector `forward`. glTF cameras look down
+    /// their −Z with +Y up, so the frame's columns are right = forward × up (normalised),
+    /// true up = right × forward, and back = −forward. `up` must not be parallel to `forward`.
+    pub fn looking_along(
+        name: &str,
+        eye: Vec3,
+        forward: Vec3,
+        up: Vec3,
+        projection: Projection,
+    ) -> Self {
+        let right = forward.cross(up).normalize();
+        let true_up = right.cross(forward);
+        Self {
+            name: name.to_string(),
+            world_from_camera: Mat4::from_cols(
+                right.extend(0.0),
+                true_up.extend(0.0),
+                (-forward).extend(0.0),
+                eye.extend(1.0),
+            ),
+            projection,
+        }
+    }
+}
+
 /// glTF camera projections.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
