@@ -5,7 +5,6 @@
 
 #![deny(unsafe_code)]
 
-#[allow(unsafe_code)]
 pub mod accel;
 pub mod batch;
 pub mod bench;

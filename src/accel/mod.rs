@@ -9,7 +9,9 @@
 //! triangle's index within that mesh. The geometric normal follows glTF's winding:
 //! `normalize((v1 - v0) × (v2 - v0))`, front face counter-clockwise.
 
+// The one module allowed `unsafe`: the Embree FFI wrapper (the crate denies it elsewhere).
 #[cfg(feature = "embree")]
+#[allow(unsafe_code)]
 pub mod embree;
 
 pub mod bvh;
@@ -109,6 +111,16 @@ impl BackendKind {
         #[cfg(not(feature = "embree"))]
         {
             &[BackendKind::Bvh]
+        }
+    }
+
+    /// Sets up the calling thread for tracing rays with this backend; render pools call it
+    /// from each worker's start handler. Embree asks for flush-to-zero and
+    /// denormals-are-zero on every thread that traces; the BVH needs nothing.
+    pub fn prepare_worker_thread(self) {
+        #[cfg(feature = "embree")]
+        if self == BackendKind::Embree {
+            embree::set_denormal_modes();
         }
     }
 

@@ -194,10 +194,9 @@ impl Pool {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(move |i| format!("glint-bench-{threads}-{i}"))
-            .start_handler(|_| {
-                #[cfg(feature = "embree")]
-                crate::accel::embree::set_denormal_modes();
-            })
+            // Every backend is timed on the same pools, so all workers run in Embree's
+            // floating-point modes (a no-op without the embree feature).
+            .start_handler(|_| crate::accel::BackendKind::Embree.prepare_worker_thread())
             .build()
             .map_err(|source| BenchError::ThreadPool { threads, source })?;
         Ok(Self { threads, pool })

@@ -265,20 +265,13 @@ pub(crate) fn validate(s: &RenderSettings) -> Result<(), RenderError> {
     Ok(())
 }
 
-/// The pool the tiles run on. With Embree, every worker sets flush-to-zero and
-/// denormals-are-zero first, as Embree recommends for threads that trace rays.
+/// The pool the tiles run on; each worker is set up for `backend` first
+/// ([`BackendKind::prepare_worker_thread`]).
 pub fn thread_pool(threads: usize, backend: BackendKind) -> Result<rayon::ThreadPool, RenderError> {
     let builder = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
-        .thread_name(|i| format!("glint-render-{i}"));
-    #[cfg(feature = "embree")]
-    let builder = builder.start_handler(move |_| {
-        if backend == BackendKind::Embree {
-            crate::accel::embree::set_denormal_modes();
-        }
-    });
-    #[cfg(not(feature = "embree"))]
-    let _ = backend;
+        .thread_name(|i| format!("glint-render-{i}"))
+        .start_handler(move |_| backend.prepare_worker_thread());
     builder.build().map_err(|e| RenderError::Threads {
         threads,
         reason: e.to_string(),
