@@ -4,7 +4,7 @@
 
 use glint::accel::BackendKind;
 use glint::render::{
-    self, AovSelection, FilterKind, FilterSpec, PassRenderer, PixelSampling, RenderSettings,
+    self, AovSelection, FilterKind, FilterSpec, TileScheduler, PixelSampling, RenderSettings,
 };
 
 /// The demo scene (mirrors, several lights) with its camera.
@@ -137,7 +137,7 @@ fn passes_continue_the_sample_sequence() {
         ..settings(PixelSampling::Sobol, FilterKind::Gaussian, 2, 5)
     };
     let whole = render::render(&scene, accel.as_ref(), &camera, &s, None).expect("render");
-    let mut passes = PassRenderer::new(&scene, accel.as_ref(), &camera, &s).expect("renderer");
+    let mut passes = TileScheduler::new(&scene, accel.as_ref(), &camera, &s).expect("renderer");
     for spp in [2, 2, 4] {
         passes.render_pass(spp, None);
     }

@@ -38,14 +38,10 @@ pub(crate) struct TileContext<'a> {
     pub sampler: PixelSampler,
     /// Turns the sampler's point into a film offset and a filter weight.
     pub filter: FilterSampler,
-    /// First sample index of this pass (progressive rendering renders several passes).
-    pub first_sample: u32,
     pub materials: Vec<ShadingMaterial>,
     pub lights: LightSet,
     /// Loop over per-type light lists (specialised) or the run-time typed list (general).
     pub typed_lights: bool,
-    /// Samples per pixel in this pass.
-    pub spp: u32,
     pub max_depth: u32,
     pub aovs: AovSelection,
     /// MIP chains of `scene.textures`, index-aligned (empty when the kernel reads no textures).
@@ -57,6 +53,17 @@ pub(crate) struct TileContext<'a> {
     pub differentials: bool,
     /// Film distance between neighbouring samples, 1/√spp pixels.
     pub differential_spacing: f32,
+}
+
+/// The samples one pass adds: indices `first_sample .. first_sample + spp` of every pixel's
+/// sequence. Passed to each tile apart from the [`TileContext`], which stays the same for
+/// every pass of a render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Pass {
+    /// First sample index of the pass.
+    pub first_sample: u32,
+    /// Samples per pixel in the pass.
+    pub spp: u32,
 }
 
 /// A path vertex waiting for its ray's hit: which pixel it feeds and with what weight.
@@ -109,6 +116,7 @@ pub(crate) fn render_tile<
     const SHADING_NORMALS: bool,
 >(
     ctx: &TileContext<'_>,
+    pass: Pass,
     tile: &Tile,
     s: &mut Scratch,
 ) -> (TileSums, RayCounts) {
@@ -116,7 +124,7 @@ pub(crate) fn render_tile<
     let mut counts = RayCounts::default();
     // Differentials exist only in texture kernels, and only when a filter reads them.
     let carry = TEXTURES && ctx.differentials;
-    for sample in ctx.first_sample..ctx.first_sample.saturating_add(ctx.spp) {
+    for sample in pass.first_sample..pass.first_sample.saturating_add(pass.spp) {
         s.rays.clear();
         s.paths.clear();
         s.weights.clear();

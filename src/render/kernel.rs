@@ -13,7 +13,7 @@
 //! what the specialisation buys (`cli::bench_render::kernel_bench`).
 
 use super::film::TileSums;
-use super::integrator::{Scratch, TileContext, render_tile};
+use super::integrator::{Pass, Scratch, TileContext, render_tile};
 use super::stats::RayCounts;
 use super::tiles::Tile;
 use crate::scene::SceneFeatures;
@@ -66,7 +66,7 @@ impl KernelFlags {
 }
 
 /// A tile renderer: one monomorphised instance of the integrator.
-pub(crate) type TileFn = fn(&TileContext<'_>, &Tile, &mut Scratch) -> (TileSums, RayCounts);
+pub(crate) type TileFn = fn(&TileContext<'_>, Pass, &Tile, &mut Scratch) -> (TileSums, RayCounts);
 
 /// The integrator instance for `flags` (the light typing is read from the context).
 pub(crate) fn select(flags: &KernelFlags) -> TileFn {

@@ -20,6 +20,7 @@ pub mod options;
 pub mod partial;
 pub mod progressive;
 pub mod sampler;
+pub mod scheduler;
 pub mod stats;
 pub mod tiles;
 
@@ -28,7 +29,8 @@ pub use film::{AovSelection, Aovs, Film, Image};
 pub use filter::{FilterKind, FilterSpec};
 pub use job::{Job, JobError, JobOutput, PreparedScene};
 pub use kernel::{KernelChoice, KernelFlags};
-pub use progressive::{PassRenderer, ProgressiveOutput, StopReason, StopRule, render_progressive};
+pub use progressive::{ProgressiveOutput, StopReason, StopRule, render_progressive};
+pub use scheduler::TileScheduler;
 pub use sampler::{PixelSampler, PixelSampling};
 pub use stats::{RayCounts, RenderStats};
 
@@ -233,14 +235,15 @@ pub fn render_film(
     samples: std::ops::Range<u32>,
     progress: Option<Progress<'_>>,
 ) -> Result<(Film, RenderStats), RenderError> {
-    validate(settings)?;
-    if samples.start >= samples.end || samples.end > settings.spp {
+    // The settings themselves are validated once, by the scheduler (spp = 0 included, so
+    // that it is reported as such rather than as an empty range).
+    if settings.spp > 0 && (samples.start >= samples.end || samples.end > settings.spp) {
         return Err(RenderError::Settings(format!(
             "sample range {}..{} must be non-empty and within 0..{} (the samples per pixel)",
             samples.start, samples.end, settings.spp
         )));
     }
-    let mut renderer = PassRenderer::with_inputs(inputs, settings)?;
+    let mut renderer = TileScheduler::with_inputs(inputs, settings)?;
     renderer.render_samples(samples, progress);
     Ok(renderer.into_film())
 }

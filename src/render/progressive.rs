@@ -1,10 +1,9 @@
 //! Rendering in passes: a fixed sample count, a time budget, or a target error.
 //!
-//! [`PassRenderer`] holds everything a render needs once (camera rays, material table,
-//! lights, the kernel, the thread pool, the film) and adds passes of samples to the film;
-//! pass `k` continues the sample sequence where pass `k − 1` stopped, so `n` samples in any
-//! number of passes give the same image as `n` samples in one (Sobol and independent
-//! sampling; stratified jitter needs the count up front and is refused here).
+//! Passes are rendered by the [`TileScheduler`]; pass `k` continues the sample sequence where
+//! pass `k − 1` stopped, so `n` samples in any number of passes give the same image as `n`
+//! samples in one (Sobol and independent sampling; stratified jitter needs the count up front
+//! and is refused here).
 //!
 //! [`render_progressive`] stops on whichever comes first:
 //! - the time budget: each pass is sized from the measured time per sample so that it ends
@@ -19,217 +18,13 @@
 //! target still needs, predicted from error ∝ spp^−½ (+10%), so the last pass does not
 //! overshoot the target by a whole doubling.
 
-use super::film::{Film, Image};
-use super::filter::FilterSampler;
-use super::integrator::{Scratch, TileContext};
-use super::kernel::{self, KernelFlags, TileFn};
-use super::stats::{RayCounts, RenderStats};
-use super::tiles::{self, Tile};
-use super::{
-    CameraRays, PixelSampler, Progress, RenderError, RenderInputs, RenderOutput, RenderSettings,
-    thread_pool, validate,
-};
+use super::film::Image;
+use super::scheduler::TileScheduler;
+use super::{Progress, RenderError, RenderInputs, RenderOutput, RenderSettings};
 use crate::accel::Accel;
-use crate::light::LightSet;
-use crate::material::ShadingMaterial;
-use crate::scene::{Camera, Scene, SceneFeatures};
-use crate::texture::MipMap;
+use crate::scene::{Camera, Scene};
 use glam::Vec3;
-use rayon::prelude::*;
-use std::borrow::Cow;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
-
-/// A render that accumulates passes of samples into one film.
-pub struct PassRenderer<'a> {
-    ctx: TileContext<'a>,
-    render_tile: TileFn,
-    pool: Pool<'a>,
-    tiles: Vec<Tile>,
-    film: Film,
-    rays: RayCounts,
-    elapsed: Duration,
-    features: SceneFeatures,
-    flags: KernelFlags,
-    texture_bytes: u64,
-}
-
-/// The pool a render runs on: its own, or one shared by concurrent renders (`glint batch`).
-enum Pool<'a> {
-    Own(rayon::ThreadPool),
-    Shared(&'a rayon::ThreadPool),
-}
-
-impl Pool<'_> {
-    fn get(&self) -> &rayon::ThreadPool {
-        match self {
-            Pool::Own(pool) => pool,
-            Pool::Shared(pool) => pool,
-        }
-    }
-}
-
-impl<'a> PassRenderer<'a> {
-    /// Prepares a render of `scene` (ray-query structure `accel`) through `camera`, with the
-    /// scene's own lights on a pool of its own. `settings.spp` is not used: each pass says how
-    /// many samples it adds.
-    pub fn new(
-        scene: &'a Scene,
-        accel: &'a dyn Accel,
-        camera: &'a Camera,
-        settings: &RenderSettings,
-    ) -> Result<Self, RenderError> {
-        Self::with_inputs(&RenderInputs::of_scene(scene, accel, camera), settings)
-    }
-
-    /// Prepares a render from [`RenderInputs`]: given lights, and optionally a shared pool.
-    pub fn with_inputs(
-        inputs: &RenderInputs<'a>,
-        settings: &RenderSettings,
-    ) -> Result<Self, RenderError> {
-        let RenderInputs {
-            scene,
-            lights,
-            accel,
-            camera,
-            pool,
-            mipmaps,
-        } = *inputs;
-        validate(settings)?;
-        settings.filter.validate().map_err(RenderError::Settings)?;
-        if accel.triangle_count() != scene.triangle_count() {
-            return Err(RenderError::AccelMismatch {
-                accel: accel.triangle_count(),
-                scene: scene.triangle_count(),
-            });
-        }
-        let camera_rays = CameraRays::for_render(camera, settings.width, settings.height)?;
-        let features = SceneFeatures::of(scene);
-        let flags = KernelFlags::for_scene(&features, settings.kernel);
-        // MIP chains only when the kernel reads textures: the caller's, built at load, else
-        // this render's own.
-        let mipmaps: Cow<'a, [MipMap]> = match (flags.textures, mipmaps) {
-            (false, _) => Cow::Borrowed(&[]),
-            (true, Some(shared)) => Cow::Borrowed(shared),
-            (true, None) => Cow::Owned(super::build_mipmaps(scene)),
-        };
-        let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
-        let ctx = TileContext {
-            scene,
-            accel,
-            camera: camera_rays,
-            sampler: PixelSampler::new(settings.sampling, settings.spp, settings.seed),
-            filter: FilterSampler::new(settings.filter),
-            first_sample: 0,
-            materials: ShadingMaterial::table(scene),
-            lights: LightSet::new(lights, settings.light_units)?,
-            typed_lights: flags.typed_lights,
-            spp: 0,
-            max_depth: settings.max_depth,
-            aovs: settings.aovs,
-            mipmaps,
-            texture_filter: settings.texture_filter,
-            differentials: features.textures && settings.texture_filter.uses_footprint(),
-            differential_spacing: 1.0 / (settings.spp as f32).sqrt(),
-        };
-        let pool = match pool {
-            Some(shared) => Pool::Shared(shared),
-            None => Pool::Own(thread_pool(settings.threads, accel.kind())?),
-        };
-        Ok(Self {
-            ctx,
-            render_tile: kernel::select(&flags),
-            pool,
-            tiles: tiles::tiles(settings.width, settings.height, tiles::TILE_SIZE),
-            film: Film::new(settings.width, settings.height, settings.aovs),
-            rays: RayCounts::default(),
-            elapsed: Duration::ZERO,
-            features,
-            flags,
-            texture_bytes,
-        })
-    }
-
-    /// Renders the samples with indices in `samples` (a partial render's range) as one pass.
-    pub fn render_samples(
-        &mut self,
-        samples: std::ops::Range<u32>,
-        progress: Option<Progress<'_>>,
-    ) {
-        self.ctx.first_sample = samples.start;
-        self.render_pass(samples.end.saturating_sub(samples.start), progress);
-    }
-
-    /// The film and the statistics, unresolved (for partial renders and their merge).
-    pub fn into_film(self) -> (Film, RenderStats) {
-        let stats = self.stats();
-        (self.film, stats)
-    }
-
-    fn stats(&self) -> RenderStats {
-        RenderStats {
-            elapsed: self.elapsed,
-            rays: self.rays,
-            features: self.features,
-            kernel: self.flags,
-            texture_bytes: self.texture_bytes,
-        }
-    }
-
-    /// Adds `spp` samples per pixel (the next `spp` of each pixel's sequence) to the film.
-    pub fn render_pass(&mut self, spp: u32, progress: Option<Progress<'_>>) {
-        self.ctx.spp = spp;
-        let (ctx, render_tile, tiles) = (&self.ctx, self.render_tile, &self.tiles);
-        let done = AtomicUsize::new(0);
-        let start = Instant::now();
-        let results: Vec<_> = self.pool.get().install(|| {
-            tiles
-                .par_iter()
-                .map_init(Scratch::default, |scratch, tile| {
-                    let result = render_tile(ctx, tile, scratch);
-                    let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-                    if let Some(report) = progress {
-                        report(finished, tiles.len());
-                    }
-                    result
-                })
-                .collect()
-        });
-        // Tiles are merged in tile order on this thread: each pixel's sum is the same whatever
-        // order the workers finished in.
-        for (tile, (sums, counts)) in self.tiles.iter().zip(&results) {
-            self.film.add_tile(tile, sums);
-            self.rays += *counts;
-        }
-        self.elapsed += start.elapsed();
-        self.ctx.first_sample = self.ctx.first_sample.saturating_add(spp);
-    }
-
-    /// Samples per pixel rendered so far.
-    pub fn samples_per_pixel(&self) -> u32 {
-        self.ctx.first_sample
-    }
-
-    /// Render time so far (passes only, not the set-up).
-    pub fn elapsed(&self) -> Duration {
-        self.elapsed
-    }
-
-    /// The film so far.
-    pub fn film(&self) -> &Film {
-        &self.film
-    }
-
-    /// The image so far and the statistics.
-    pub fn finish(&self) -> RenderOutput {
-        let (image, aovs) = self.film.resolve();
-        RenderOutput {
-            image,
-            aovs,
-            stats: self.stats(),
-        }
-    }
-}
+use std::time::Duration;
 
 /// When a progressive render stops.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -324,7 +119,7 @@ pub fn render_progressive_with(
         )));
     }
     let max_spp = rule.max_spp.max(2);
-    let mut renderer = PassRenderer::with_inputs(inputs, settings)?;
+    let mut renderer = TileScheduler::with_inputs(inputs, settings)?;
     let mut passes = 0;
     // Two samples first: one in each half-buffer, the least the error estimate needs.
     let mut next = 2;
