@@ -27,14 +27,8 @@ fn render_asset(file: &str, backend: BackendKind) -> Vec<Vec3> {
         .join("../shared/scenes")
         .join(file);
     let mut scene = glint::scene::gltf::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let camera = scene
-        .cameras
-        .first()
-        .cloned()
-        .unwrap_or_else(|| defaults::default_camera(&scene));
-    if scene.lights.is_empty() {
-        scene.lights = defaults::default_lights(&scene, &camera);
-    }
+    defaults::complete(&mut scene);
+    let camera = scene.cameras[0].clone();
     let accel = render::prepare(&scene, backend, BuildOptions::default())
         .unwrap_or_else(|e| panic!("{file} on {backend}: {e}"));
     let settings = RenderSettings {

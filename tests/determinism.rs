@@ -10,14 +10,8 @@ use glint::render::{
 /// The demo scene (mirrors, several lights) with its camera.
 fn demo() -> (glint::scene::Scene, glint::scene::Camera) {
     let mut scene = glint::scene::demo::demo_scene().expect("demo scene");
-    let camera = scene
-        .cameras
-        .first()
-        .cloned()
-        .unwrap_or_else(|| glint::scene::defaults::default_camera(&scene));
-    if scene.lights.is_empty() {
-        scene.lights = glint::scene::defaults::default_lights(&scene, &camera);
-    }
+    glint::scene::defaults::complete(&mut scene);
+    let camera = scene.cameras[0].clone();
     (scene, camera)
 }
 

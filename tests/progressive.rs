@@ -12,14 +12,8 @@ use std::time::Duration;
 
 fn demo() -> (Scene, Camera) {
     let mut scene = scene::demo::demo_scene().expect("demo scene");
-    let camera = scene
-        .cameras
-        .first()
-        .cloned()
-        .unwrap_or_else(|| scene::defaults::default_camera(&scene));
-    if scene.lights.is_empty() {
-        scene.lights = scene::defaults::default_lights(&scene, &camera);
-    }
+    scene::defaults::complete(&mut scene);
+    let camera = scene.cameras[0].clone();
     (scene, camera)
 }
 

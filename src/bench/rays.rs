@@ -4,15 +4,12 @@
 //! backends, two builds or two runs always trace the very same rays.
 
 use crate::accel::{Ray, TriangleMesh};
+use crate::render::{CameraRays, tiles};
 use crate::scene::{Camera, Projection};
 use glam::{Mat4, Vec3, vec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::f32::consts::TAU;
-
-/// Side of the square pixel tiles camera rays are grouped in. Eight by eight pixels fill
-/// Embree's 8-wide packets with neighbours, which is what makes them coherent.
-pub const TILE_SIDE_PX: u32 = 8;
 
 /// Vertical field of view of [`framing_camera`]: a common "normal lens" angle.
 pub const FRAMING_YFOV_RAD: f32 = std::f32::consts::FRAC_PI_4;
@@ -115,78 +112,20 @@ pub fn framing_camera(bounds: &Bounds, points: impl IntoIterator<Item = Vec3>) -
 }
 
 /// One ray through the centre of every pixel of a `width × height` image seen by `camera`,
-/// over `[0, ∞)`, with unit directions.
-///
-/// The rays are ordered tile by tile ([`TILE_SIDE_PX`]² pixels, tiles in rows, pixels in rows
-/// within a tile; the tiles of the last column and row may be cut short), so that any 64
-/// consecutive rays of a full tile are neighbours: the coherent batches a renderer traces.
-/// A perspective camera without its own aspect ratio takes the image's. Empty for an empty
-/// image.
-pub fn camera_rays(camera: &Camera, width: u32, height: u32) -> Vec<Ray> {
+/// over `[0, ∞)`, with unit directions: the renderer's own camera rays
+/// ([`CameraRays`]) in the renderer's own tile order ([`tiles::tiles`] of
+/// [`tiles::TILE_SIZE`]² pixels, pixels in rows within a tile), so the coherent batches timed
+/// here are the batches a render traces. An error names what makes the camera unusable.
+pub fn camera_rays(camera: &Camera, width: u32, height: u32) -> Result<Vec<Ray>, String> {
+    let project = CameraRays::new(camera, width, height)?;
     let mut rays = Vec::with_capacity(width as usize * height as usize);
-    if width == 0 || height == 0 {
-        return rays;
-    }
-    let image_aspect = width as f32 / height as f32;
-    let project = Projector::new(camera, image_aspect);
-    for tile_y in (0..height).step_by(TILE_SIDE_PX as usize) {
-        for tile_x in (0..width).step_by(TILE_SIDE_PX as usize) {
-            for y in tile_y..(tile_y + TILE_SIDE_PX).min(height) {
-                for x in tile_x..(tile_x + TILE_SIDE_PX).min(width) {
-                    // Normalised device coordinates of the pixel centre: x right, y up, in
-                    // [−1, 1]; image rows go down.
-                    let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
-                    let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-                    rays.push(project.ray(ndc_x, ndc_y));
-                }
-            }
+    for tile in tiles::tiles(width, height, tiles::TILE_SIZE) {
+        for local in 0..tile.pixel_count() {
+            let (x, y) = tile.pixel(local);
+            rays.push(project.ray(x as f32 + 0.5, y as f32 + 0.5));
         }
     }
-    rays
-}
-
-/// Turns normalised device coordinates into world-space rays for one camera.
-struct Projector {
-    world_from_camera: Mat4,
-    /// Half the view's width and height: tangents of the half angles for a perspective
-    /// camera, scene units for an orthographic one.
-    half_extent_x: f32,
-    half_extent_y: f32,
-    orthographic: bool,
-}
-
-impl Projector {
-    fn new(camera: &Camera, image_aspect: f32) -> Self {
-        let (half_extent_x, half_extent_y, orthographic) = match camera.projection {
-            Projection::Perspective { yfov, aspect_ratio } => {
-                let half_y = (0.5 * yfov).tan();
-                (half_y * aspect_ratio.unwrap_or(image_aspect), half_y, false)
-            }
-            Projection::Orthographic { xmag, ymag } => (xmag, ymag, true),
-        };
-        Self {
-            world_from_camera: camera.world_from_camera,
-            half_extent_x,
-            half_extent_y,
-            orthographic,
-        }
-    }
-
-    fn ray(&self, ndc_x: f32, ndc_y: f32) -> Ray {
-        let x = ndc_x * self.half_extent_x;
-        let y = ndc_y * self.half_extent_y;
-        let (origin_camera, dir_camera) = if self.orthographic {
-            (vec3(x, y, 0.0), Vec3::NEG_Z)
-        } else {
-            (Vec3::ZERO, vec3(x, y, -1.0))
-        };
-        Ray::new(
-            self.world_from_camera.transform_point3(origin_camera),
-            self.world_from_camera
-                .transform_vector3(dir_camera)
-                .normalize_or_zero(),
-        )
-    }
+    Ok(rays)
 }
 
 /// `count` rays over `[0, ∞)` with origins uniform inside `bounds` and unit directions uniform
@@ -245,7 +184,7 @@ mod tests {
     fn camera_rays_cover_every_pixel_once_in_tiles() {
         let camera = framing_camera(&unit_box(), unit_box().corners());
         // 19 × 11: partial tiles in the last column and row.
-        let rays = camera_rays(&camera, 19, 11);
+        let rays = camera_rays(&camera, 19, 11).unwrap();
         assert_eq!(rays.len(), 19 * 11);
         // A pinhole camera: every ray leaves the eye, with a unit direction.
         let eye = camera.world_from_camera.transform_point3(Vec3::ZERO);
@@ -262,12 +201,14 @@ mod tests {
     fn camera_rays_come_tile_by_tile() {
         let camera = framing_camera(&unit_box(), unit_box().corners());
         let camera_from_world = camera.world_from_camera.inverse();
-        // A 16 × 8 image is two tiles side by side: the left tile's 64 rays come first, and
+        // A 2T × T image is two tiles side by side: the left tile's T² rays come first, and
         // they are exactly those pointing left of the optical axis.
-        let rays = camera_rays(&camera, 16, 8);
+        let t = tiles::TILE_SIZE;
+        let rays = camera_rays(&camera, 2 * t, t).unwrap();
+        let n = (t * t) as usize;
         let x_camera = |r: &Ray| camera_from_world.transform_vector3(r.dir).x;
-        assert!(rays[..64].iter().all(|r| x_camera(r) < 0.0));
-        assert!(rays[64..].iter().all(|r| x_camera(r) > 0.0));
+        assert!(rays[..n].iter().all(|r| x_camera(r) < 0.0));
+        assert!(rays[n..].iter().all(|r| x_camera(r) > 0.0));
     }
 
     #[test]
@@ -325,19 +266,18 @@ mod tests {
                 ymag: 1.0,
             },
         };
-        let rays = camera_rays(&camera, 2, 2);
-        assert!(rays.iter().all(|r| r.dir == Vec3::NEG_Z));
+        let rays = camera_rays(&camera, 2, 2).unwrap();
+        assert!(rays.iter().all(|r| r.dir.abs_diff_eq(Vec3::NEG_Z, 1e-6)));
         // Pixel centres at ±½ of the half extents.
-        let origins: Vec<Vec3> = rays.iter().map(|r| r.origin).collect();
-        assert_eq!(
-            origins,
-            vec![
-                vec3(-1.0, 0.5, 5.0),
-                vec3(1.0, 0.5, 5.0),
-                vec3(-1.0, -0.5, 5.0),
-                vec3(1.0, -0.5, 5.0)
-            ]
-        );
+        let expected = [
+            vec3(-1.0, 0.5, 5.0),
+            vec3(1.0, 0.5, 5.0),
+            vec3(-1.0, -0.5, 5.0),
+            vec3(1.0, -0.5, 5.0),
+        ];
+        for (ray, want) in rays.iter().zip(expected) {
+            assert!(ray.origin.abs_diff_eq(want, 1e-6), "{} vs {want}", ray.origin);
+        }
     }
 
     #[test]

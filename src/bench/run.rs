@@ -132,6 +132,14 @@ pub enum BenchError {
         /// What is wrong.
         source: AccelError,
     },
+    /// The scene's camera cannot make rays for the image.
+    #[error("scene {scene}: its camera is unusable: {reason}; fix the camera or the image size")]
+    Camera {
+        /// Scene name.
+        scene: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A backend failed to build.
     #[error("scene {scene}: building the {backend} structure failed: {source}")]
     Build {
@@ -488,7 +496,12 @@ fn bench_scene(
         rays::framing_camera(&bounds, vertices)
     });
     let work = Workloads {
-        camera: rays::camera_rays(&camera, config.width, config.height),
+        camera: rays::camera_rays(&camera, config.width, config.height).map_err(|reason| {
+            BenchError::Camera {
+                scene: name.clone(),
+                reason,
+            }
+        })?,
         random: rays::random_rays(&bounds, config.random_rays, config.seed),
         random_segments: rays::random_segments(&bounds, config.random_rays, config.seed),
     };

@@ -60,36 +60,21 @@ pub fn quad(center: Vec3, u: Vec3, v: Vec3, material: usize) -> Mesh {
 
 /// Camera-to-world transform of a camera at `eye` looking at `target` (camera −Z), +Y up.
 pub fn world_from_look_at(eye: Vec3, target: Vec3, up: Vec3) -> Mat4 {
-    let forward = (target - eye).normalize();
-    let right = forward.cross(up).normalize();
-    let true_up = right.cross(forward);
-    Mat4::from_cols(
-        right.extend(0.0),
-        true_up.extend(0.0),
-        (-forward).extend(0.0),
-        eye.extend(1.0),
-    )
+    ortho(eye, target, up, 1.0, 1.0).world_from_camera
 }
 
 /// A perspective camera at `eye` looking at `target`.
 pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, yfov: f32) -> Camera {
-    Camera {
-        name: "test".into(),
-        world_from_camera: world_from_look_at(eye, target, up),
-        projection: Projection::Perspective {
-            yfov,
-            aspect_ratio: None,
-        },
-    }
+    let projection = Projection::Perspective {
+        yfov,
+        aspect_ratio: None,
+    };
+    Camera::look_at("test", eye, target, up, projection)
 }
 
 /// An orthographic camera at `eye` looking at `target`, half-extents `xmag`, `ymag`.
 pub fn ortho(eye: Vec3, target: Vec3, up: Vec3, xmag: f32, ymag: f32) -> Camera {
-    Camera {
-        name: "ortho".into(),
-        world_from_camera: world_from_look_at(eye, target, up),
-        projection: Projection::Orthographic { xmag, ymag },
-    }
+    Camera::look_at("ortho", eye, target, up, Projection::Orthographic { xmag, ymag })
 }
 
 /// Settings for a 1-spp render at pixel centres.
