@@ -1,6 +1,6 @@
 //! Benchmarks: how fast each ray backend builds and traces.
 //!
-//! - [`rays`]: deterministic ray generators (coherent camera rays in tiles, incoherent random
+//! - [`rays`]: deterministic ray generators (the renderer's camera rays in its tiles, incoherent random
 //!   rays and segments), reusable by any benchmark that must trace the same rays twice.
 //! - [`timing`]: medians and spreads of repeated runs after a discarded warm-up.
 //! - [`cpu`]: the CPU time the process used, for throughput per CPU-second on a busy machine.
@@ -8,9 +8,12 @@
 //! - [`structure`]: a built backend with its single-ray and packet entry points.
 //! - [`run`]: `bench rays` itself, measuring every build setting and query.
 //! - [`report`]: the figures as data, the ratios derived within one run, and the tables.
+//! - [`render`]: `bench render`: the renderer's kernels, its raw-trace ceiling and its thread
+//!   scaling, on the renderer's own camera rays and tiles.
 
 pub mod cpu;
 pub mod rays;
+pub mod render;
 pub mod report;
 pub mod run;
 pub mod scene;

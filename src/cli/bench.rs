@@ -1,7 +1,12 @@
 //! `glint bench`.
 
 use super::CliError;
+use crate::accel::{BackendKind, BuildOptions};
+use crate::bench::render::{kernel_bench, procedural_scene, raw_trace, scene_to_bench, thread_scaling};
 use crate::bench::{BenchScene, RaysConfig, SceneSize, run_rays};
+use crate::procedural::Builtin;
+use crate::render::{self, RenderSettings};
+use std::path::PathBuf;
 
 /// Benchmarks.
 #[derive(clap::Subcommand, Debug)]
@@ -10,7 +15,7 @@ pub enum BenchCommand {
     Rays(RaysArgs),
     /// The renderer's end-to-end ray rate next to the raw backend rate on the same rays, its
     /// kernel specialisation against the general kernel, and its scaling from 1 thread to all.
-    Render(super::bench_render::KernelBenchArgs),
+    Render(KernelBenchArgs),
 }
 
 /// Arguments of `glint bench rays`.
@@ -106,7 +111,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), CliError> {
             }
             Ok(())
         }
-        BenchCommand::Render(args) => super::bench_render::run(args),
+        BenchCommand::Render(args) => run_render(args),
     }
 }
 
@@ -166,4 +171,114 @@ mod tests {
             assert!(parse(&["rays", flag, "0"]).is_err(), "{flag} 0 accepted");
         }
     }
+}
+
+/// Arguments of the render benchmark.
+#[derive(clap::Args, Debug, Clone)]
+pub struct KernelBenchArgs {
+    /// glTF scene; without it, a procedural scene (see --procedural).
+    pub scene: Option<PathBuf>,
+    /// Procedural scene when no file is given: sphere, terrain or soup.
+    #[arg(long, default_value = "sphere")]
+    pub procedural: String,
+    /// Image width.
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 360)]
+    pub height: u32,
+    /// Samples per pixel.
+    #[arg(long, default_value_t = 4)]
+    pub spp: u32,
+    /// Ray-query backend.
+    #[arg(long, default_value_t = BackendKind::default())]
+    pub backend: BackendKind,
+    /// Renders per kernel (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    pub runs: usize,
+    /// Worker threads; 0 uses every core.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+}
+
+/// Runs the render benchmark and prints its report to stdout.
+pub fn run_render(args: KernelBenchArgs) -> Result<(), CliError> {
+    let (scene, camera) = match &args.scene {
+        Some(path) => scene_to_bench(path).map_err(CliError::from_display)?,
+        None => {
+            let builtin = Builtin::ALL
+                .into_iter()
+                .find(|b| b.name() == args.procedural)
+                .ok_or_else(|| {
+                    CliError::Usage(format!(
+                        "unknown procedural scene '{}': use sphere, terrain or soup",
+                        args.procedural
+                    ))
+                })?;
+            procedural_scene(builtin, 1)
+        }
+    };
+    let accel = render::prepare(&scene, args.backend, BuildOptions::default())
+        .map_err(CliError::from_display)?;
+    let settings = RenderSettings {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        threads: args.threads,
+        ..RenderSettings::default()
+    };
+    // The raw trace's median run, like the renders' (one run is too noisy on a shared machine).
+    let mut raws = Vec::new();
+    for _ in 0..args.runs.max(1) {
+        raws.push(
+            raw_trace(&scene, accel.as_ref(), &camera, &settings)
+                .map_err(CliError::from_display)?,
+        );
+    }
+    raws.sort_by_key(|r| r.elapsed);
+    let raw = raws[raws.len() / 2];
+    let report = kernel_bench(&scene, accel.as_ref(), &camera, &settings, args.runs)
+        .map_err(CliError::from_display)?;
+    let rendered = report.rays as f64 / report.specialised.as_secs_f64().max(1e-12) / 1e6;
+    println!(
+        "{} triangles, {}×{}, {} spp, {}",
+        scene.triangle_count(),
+        args.width,
+        args.height,
+        args.spp,
+        args.backend
+    );
+    println!("{report}");
+    println!(
+        "raw trace (camera + unshaded shadow rays, same batches, median): {:.3} s, {:.1} \
+         Mrays/s; renderer reaches {:.0}% of it",
+        raw.elapsed.as_secs_f64(),
+        raw.mrays_per_second(),
+        100.0 * rendered / raw.mrays_per_second().max(1e-12)
+    );
+    let threads = match args.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    if threads > 1 {
+        let scaling = thread_scaling(
+            &scene,
+            accel.as_ref(),
+            &camera,
+            &settings,
+            threads,
+            args.runs,
+        )
+        .map_err(CliError::from_display)?;
+        println!(
+            "scaling: 1 thread {:.3} s, {threads} threads {:.3} s: {:.2}× speed-up, {:.0}% \
+             efficiency (median of {})",
+            scaling.one.as_secs_f64(),
+            scaling.all.as_secs_f64(),
+            scaling.speedup(),
+            100.0 * scaling.efficiency(),
+            args.runs
+        );
+    }
+    Ok(())
 }

@@ -3,7 +3,6 @@
 
 pub mod batch;
 pub mod bench;
-pub mod bench_render;
 pub mod converge;
 pub mod merge;
 pub mod render;

@@ -1,6 +1,7 @@
-//! Writing renders to disk: PNG (display-referred, 8 or 16 bit) and OpenEXR (linear radiance,
-//! 32-bit float), and partial renders' sample sums ([`partial`], for `glint merge`). Every file is written atomically ([`atomic`]): a failed write leaves neither
-//! the file nor a temporary behind, and an existing file is replaced only by a complete one.
+//! Writing renders to disk: PNG (display-referred, 8 or 16 bit), OpenEXR (linear radiance,
+//! 32-bit float), and partial renders' sample sums ([`partial`], read back by `glint merge`).
+//! Every file is written atomically ([`atomic`]): a failed write leaves neither the file nor a
+//! temporary behind, and an existing file is replaced only by a complete one.
 
 pub mod atomic;
 pub mod exr;

@@ -10,7 +10,7 @@
 //!
 //! The general kernel turns every switch on and evaluates lights through the run-time typed
 //! [`GeneralLight`](crate::light::GeneralLight). It gives the same image and exists to measure
-//! what the specialisation buys (`cli::bench_render::kernel_bench`).
+//! what the specialisation buys (`bench::render::kernel_bench`).
 
 use super::film::TileSums;
 use super::integrator::{Pass, Scratch, TileContext, render_tile};

@@ -7,21 +7,19 @@
 //!
 //! - [`thread_scaling`]: the same render on 1 thread and on all, and the parallel efficiency.
 //!
-//! [`run`] drives them for a glTF scene or, without one, a procedural scene, so it needs no
-//! files.
+//! `glint bench render` drives them for a glTF scene ([`scene_to_bench`]) or, without one, a
+//! procedural scene ([`procedural_scene`]), so it needs no files.
 
-use super::CliError;
-use crate::accel::{Accel, BackendKind, BuildOptions, Coherence, Hit, Ray};
+use crate::accel::{Accel, Coherence, Hit, Ray};
 use crate::geometry::{spawn_ray, spawn_ray_to, triangle_point};
 use crate::procedural::Builtin;
 use crate::render::{
     self, CameraRays, KernelChoice, KernelFlags, PixelSampler, RenderError, RenderSettings,
 };
 use crate::scene::{self, Camera, Light, Material, Mesh, Projection, Scene};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 use std::fmt;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 /// Result of [`kernel_bench`].
@@ -117,9 +115,12 @@ pub fn kernel_bench(
     })
 }
 
-fn median(mut v: Vec<Duration>) -> Duration {
-    v.sort();
-    v.get(v.len() / 2).copied().unwrap_or_default()
+/// The median of `v` ([`super::timing::Timing`]'s median: the mean of the middle two for an
+/// even count); zero for no runs.
+fn median(v: Vec<Duration>) -> Duration {
+    let seconds: Vec<f64> = v.iter().map(Duration::as_secs_f64).collect();
+    super::timing::Timing::from_samples(&seconds)
+        .map_or(Duration::ZERO, |t| Duration::from_secs_f64(t.median_s))
 }
 
 /// Result of [`thread_scaling`].
@@ -288,14 +289,11 @@ pub fn procedural_scene(builtin: Builtin, seed: u64) -> (Scene, Camera) {
         ..Material::default()
     };
     let eye = Vec3::new(0.0, 1.6, 2.6);
-    let camera = Camera {
-        name: "bench".into(),
-        world_from_camera: look_at(eye, Vec3::ZERO),
-        projection: Projection::Perspective {
-            yfov: 0.9,
-            aspect_ratio: None,
-        },
+    let projection = Projection::Perspective {
+        yfov: 0.9,
+        aspect_ratio: None,
     };
+    let camera = Camera::look_at("bench", eye, Vec3::ZERO, Vec3::Y, projection);
     let lights = vec![
         Light::Point {
             position: Vec3::new(1.5, 2.5, 2.0),
@@ -316,136 +314,15 @@ pub fn procedural_scene(builtin: Builtin, seed: u64) -> (Scene, Camera) {
     (scene, camera)
 }
 
-/// Camera-to-world of a camera at `eye` looking at `target`, +Y up.
-fn look_at(eye: Vec3, target: Vec3) -> Mat4 {
-    let forward = (target - eye).normalize();
-    let right = forward.cross(Vec3::Y).normalize();
-    let up = right.cross(forward);
-    Mat4::from_cols(
-        right.extend(0.0),
-        up.extend(0.0),
-        (-forward).extend(0.0),
-        eye.extend(1.0),
-    )
-}
-
-/// Arguments of the render benchmark.
-#[derive(clap::Args, Debug, Clone)]
-pub struct KernelBenchArgs {
-    /// glTF scene; without it, a procedural scene (see --procedural).
-    pub scene: Option<PathBuf>,
-    /// Procedural scene when no file is given: sphere, terrain or soup.
-    #[arg(long, default_value = "sphere")]
-    pub procedural: String,
-    /// Image width.
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    /// Image height.
-    #[arg(long, default_value_t = 360)]
-    pub height: u32,
-    /// Samples per pixel.
-    #[arg(long, default_value_t = 4)]
-    pub spp: u32,
-    /// Ray-query backend.
-    #[arg(long, default_value_t = BackendKind::default())]
-    pub backend: BackendKind,
-    /// Renders per kernel (the median is reported).
-    #[arg(long, default_value_t = 5)]
-    pub runs: usize,
-    /// Worker threads; 0 uses every core.
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
-}
-
-/// Runs the render benchmark and prints its report to stdout.
-pub fn run(args: KernelBenchArgs) -> Result<(), CliError> {
-    let (mut scene, camera) = match &args.scene {
-        Some(path) => {
-            let scene = scene::gltf::load(path).map_err(CliError::from_display)?;
-            let camera = scene
-                .cameras
-                .first()
-                .cloned()
-                .unwrap_or_else(|| scene::defaults::default_camera(&scene));
-            (scene, camera)
-        }
-        None => {
-            let builtin = Builtin::ALL
-                .into_iter()
-                .find(|b| b.name() == args.procedural)
-                .ok_or_else(|| {
-                    CliError::Usage(format!(
-                        "unknown procedural scene '{}': use sphere, terrain or soup",
-                        args.procedural
-                    ))
-                })?;
-            procedural_scene(builtin, 1)
-        }
-    };
-    if scene.lights.is_empty() {
-        scene.lights = scene::defaults::default_lights(&scene, &camera);
-    }
-    let accel = render::prepare(&scene, args.backend, BuildOptions::default())
-        .map_err(CliError::from_display)?;
-    let settings = RenderSettings {
-        width: args.width,
-        height: args.height,
-        spp: args.spp,
-        threads: args.threads,
-        ..RenderSettings::default()
-    };
-    // The raw trace's median run, like the renders' (one run is too noisy on a shared machine).
-    let mut raws = Vec::new();
-    for _ in 0..args.runs.max(1) {
-        raws.push(
-            raw_trace(&scene, accel.as_ref(), &camera, &settings)
-                .map_err(CliError::from_display)?,
-        );
-    }
-    raws.sort_by_key(|r| r.elapsed);
-    let raw = raws[raws.len() / 2];
-    let report = kernel_bench(&scene, accel.as_ref(), &camera, &settings, args.runs)
-        .map_err(CliError::from_display)?;
-    let rendered = report.rays as f64 / report.specialised.as_secs_f64().max(1e-12) / 1e6;
-    println!(
-        "{} triangles, {}×{}, {} spp, {}",
-        scene.triangle_count(),
-        args.width,
-        args.height,
-        args.spp,
-        args.backend
-    );
-    println!("{report}");
-    println!(
-        "raw trace (camera + unshaded shadow rays, same batches, median): {:.3} s, {:.1} \
-         Mrays/s; renderer reaches {:.0}% of it",
-        raw.elapsed.as_secs_f64(),
-        raw.mrays_per_second(),
-        100.0 * rendered / raw.mrays_per_second().max(1e-12)
-    );
-    let threads = match args.threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
-    if threads > 1 {
-        let scaling = thread_scaling(
-            &scene,
-            accel.as_ref(),
-            &camera,
-            &settings,
-            threads,
-            args.runs,
-        )
-        .map_err(CliError::from_display)?;
-        println!(
-            "scaling: 1 thread {:.3} s, {threads} threads {:.3} s: {:.2}× speed-up, {:.0}% \
-             efficiency (median of {})",
-            scaling.one.as_secs_f64(),
-            scaling.all.as_secs_f64(),
-            scaling.speedup(),
-            100.0 * scaling.efficiency(),
-            args.runs
-        );
-    }
-    Ok(())
+/// A glTF scene completed for benchmarking ([`scene::defaults::complete`]: its first camera or
+/// the default one, its lights or the default ones) and its camera.
+pub fn scene_to_bench(path: &std::path::Path) -> Result<(Scene, Camera), scene::gltf::LoadError> {
+    let mut scene = scene::gltf::load(path)?;
+    scene::defaults::complete(&mut scene);
+    let camera = scene
+        .cameras
+        .first()
+        .cloned()
+        .unwrap_or_else(|| scene::defaults::default_camera(&scene));
+    Ok((scene, camera))
 }
