@@ -4,7 +4,7 @@
 
 use glint::accel::BackendKind;
 use glint::render::{
-    self, AovSelection, FilterKind, FilterSpec, TileScheduler, PixelSampling, RenderSettings,
+    self, AovSelection, FilterKind, FilterSpec, PixelSampling, RenderSettings, TileScheduler,
 };
 
 /// The demo scene (mirrors, several lights) with its camera.

@@ -276,7 +276,11 @@ mod tests {
             vec3(1.0, -0.5, 5.0),
         ];
         for (ray, want) in rays.iter().zip(expected) {
-            assert!(ray.origin.abs_diff_eq(want, 1e-6), "{} vs {want}", ray.origin);
+            assert!(
+                ray.origin.abs_diff_eq(want, 1e-6),
+                "{} vs {want}",
+                ray.origin
+            );
         }
     }
 

@@ -2,7 +2,9 @@
 
 use super::CliError;
 use crate::accel::{BackendKind, BuildOptions};
-use crate::bench::render::{kernel_bench, procedural_scene, raw_trace, scene_to_bench, thread_scaling};
+use crate::bench::render::{
+    kernel_bench, procedural_scene, raw_trace, scene_to_bench, thread_scaling,
+};
 use crate::bench::{BenchScene, RaysConfig, SceneSize, run_rays};
 use crate::procedural::Builtin;
 use crate::render::{self, RenderSettings};

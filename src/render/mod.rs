@@ -30,8 +30,8 @@ pub use filter::{FilterKind, FilterSpec};
 pub use job::{Job, JobError, JobOutput, PreparedScene};
 pub use kernel::{KernelChoice, KernelFlags};
 pub use progressive::{ProgressiveOutput, StopReason, StopRule, render_progressive};
-pub use scheduler::TileScheduler;
 pub use sampler::{PixelSampler, PixelSampling};
+pub use scheduler::TileScheduler;
 pub use stats::{RayCounts, RenderStats};
 
 use crate::accel::{Accel, AccelError, BackendKind, BuildOptions};

@@ -74,7 +74,13 @@ pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, yfov: f32) -> Camera {
 
 /// An orthographic camera at `eye` looking at `target`, half-extents `xmag`, `ymag`.
 pub fn ortho(eye: Vec3, target: Vec3, up: Vec3, xmag: f32, ymag: f32) -> Camera {
-    Camera::look_at("ortho", eye, target, up, Projection::Orthographic { xmag, ymag })
+    Camera::look_at(
+        "ortho",
+        eye,
+        target,
+        up,
+        Projection::Orthographic { xmag, ymag },
+    )
 }
 
 /// Settings for a 1-spp render at pixel centres.
