@@ -182,7 +182,7 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
     let embree_queries = scene
         .queries
         .iter()
-        .filter(|q| q.backend == "embree")
+        .filter(|q| q.backend == BackendKind::Embree)
         .count();
     if backends.contains(&"bvh") {
         assert_eq!(scene.embree_over_bvh.len(), embree_queries);

@@ -90,8 +90,9 @@ pub struct TriangleMesh<'a> {
     pub indices: &'a [[u32; 3]],
 }
 
-/// Which backend answers the ray queries.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+/// Which backend answers the ray queries. Serialised (bench reports) as its command-line name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum BackendKind {
     /// Intel Embree (needs the `embree` feature).
     #[cfg_attr(feature = "embree", default)]

@@ -4,6 +4,7 @@
 
 use super::structure::Method;
 use super::timing::{Rate, Runs, Timing};
+use crate::accel::BackendKind;
 use serde::Serialize;
 use std::fmt::Write as _;
 
@@ -58,7 +59,7 @@ impl Query {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct QueryReport {
     /// Backend name (`embree`, `bvh`).
-    pub backend: String,
+    pub backend: BackendKind,
     /// Single rays or packets.
     pub method: Method,
     /// Coherent or incoherent rays.
@@ -90,7 +91,7 @@ impl QueryReport {
     /// the rates and the CPU share are derived here.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        backend: &str,
+        backend: BackendKind,
         method: Method,
         workload: Workload,
         query: Query,
@@ -103,7 +104,7 @@ impl QueryReport {
         // A CPU time of zero (a run too short for the statistics) gives no rate.
         let cpu_seconds = cpu_seconds.filter(|cpu| cpu.min_s > 0.0);
         Self {
-            backend: backend.to_string(),
+            backend,
             method,
             workload,
             query,
@@ -123,7 +124,7 @@ impl QueryReport {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BuildReport {
     /// Backend name.
-    pub backend: String,
+    pub backend: BackendKind,
     /// `low`, `medium` or `high`.
     pub quality: String,
     /// Embree's robust flag (always false for obvhs, which has none).
@@ -145,7 +146,7 @@ pub struct BuildReport {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ConsistencyReport {
     /// Backend name.
-    pub backend: String,
+    pub backend: BackendKind,
     /// Single rays or packets.
     pub method: Method,
     /// Coherent or incoherent rays.
@@ -197,7 +198,7 @@ pub struct PacketGainReport {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ScalingReport {
     /// Backend name.
-    pub backend: String,
+    pub backend: BackendKind,
     /// Single rays or packets.
     pub method: Method,
     /// Coherent or incoherent rays.
@@ -289,11 +290,11 @@ fn cpu_ratio(a: &QueryReport, b: &QueryReport) -> Option<f64> {
 pub fn embree_over_bvh(queries: &[QueryReport]) -> Vec<RatioReport> {
     queries
         .iter()
-        .filter(|q| q.backend == "embree")
+        .filter(|q| q.backend == BackendKind::Embree)
         .filter_map(|embree| {
             let bvh = queries
                 .iter()
-                .find(|q| q.backend == "bvh" && same_rays(q, embree))?;
+                .find(|q| q.backend == BackendKind::Bvh && same_rays(q, embree))?;
             Some(RatioReport {
                 method: embree.method,
                 workload: embree.workload,
@@ -311,7 +312,7 @@ pub fn packet_gains(queries: &[QueryReport]) -> Vec<PacketGainReport> {
     let embree = |method: Method| {
         queries
             .iter()
-            .filter(move |q| q.backend == "embree" && q.method == method)
+            .filter(move |q| q.backend == BackendKind::Embree && q.method == method)
     };
     embree(Method::Packet8)
         .filter_map(|packet| {
@@ -343,7 +344,7 @@ pub fn scaling(queries: &[QueryReport]) -> Vec<ScalingReport> {
             })?;
             let speedup = many.mrays_per_s.median / one.mrays_per_s.median;
             Some(ScalingReport {
-                backend: many.backend.clone(),
+                backend: many.backend,
                 method: many.method,
                 workload: many.workload,
                 query: many.query,
@@ -513,7 +514,7 @@ impl SceneReport {
                 out,
                 "{}",
                 row([
-                    &build.backend,
+                    build.backend.name(),
                     &build.quality,
                     if build.robust { "yes" } else { "no" },
                     &fmt_timing(&build.build_s),
@@ -657,7 +658,7 @@ mod tests {
     use super::*;
 
     /// A query at `mrays` Mrays/s that used `cpu_share` of its threads' processors.
-    fn query(backend: &str, method: Method, threads: usize, mrays: f64) -> QueryReport {
+    fn query(backend: BackendKind, method: Method, threads: usize, mrays: f64) -> QueryReport {
         let wall_s = 1.0 / mrays;
         let seconds = Timing::from_samples(&[wall_s]).unwrap();
         // Half the requested processor time: per CPU-second, twice the wall rate per thread.
@@ -677,13 +678,13 @@ mod tests {
 
     #[test]
     fn query_rates_and_cpu_share_follow_from_the_times() {
-        let q = query("embree", Method::Single, 2, 4.0);
+        let q = query(BackendKind::Embree, Method::Single, 2, 4.0);
         assert!((q.mrays_per_s.median - 4.0).abs() < 1e-9);
         assert!((q.cpu_share.unwrap() - 0.5).abs() < 1e-9);
         // 1M rays in 0.25 CPU-s.
         assert!((q.mrays_per_cpu_s.unwrap().median - 4.0).abs() < 1e-9);
         let no_cpu = QueryReport::new(
-            "bvh",
+            BackendKind::Bvh,
             Method::Single,
             Workload::Coherent,
             Query::Closest,
@@ -699,12 +700,12 @@ mod tests {
     #[test]
     fn derived_figures_divide_the_matching_medians() {
         let queries = [
-            query("embree", Method::Single, 1, 10.0),
-            query("embree", Method::Packet8, 1, 30.0),
-            query("embree", Method::Single, 2, 16.0),
-            query("embree", Method::Packet8, 2, 60.0),
-            query("bvh", Method::Single, 1, 2.0),
-            query("bvh", Method::Single, 2, 4.0),
+            query(BackendKind::Embree, Method::Single, 1, 10.0),
+            query(BackendKind::Embree, Method::Packet8, 1, 30.0),
+            query(BackendKind::Embree, Method::Single, 2, 16.0),
+            query(BackendKind::Embree, Method::Packet8, 2, 60.0),
+            query(BackendKind::Bvh, Method::Single, 1, 2.0),
+            query(BackendKind::Bvh, Method::Single, 2, 4.0),
         ];
         let ratios = embree_over_bvh(&queries);
         assert_eq!(ratios.len(), 4);
@@ -729,8 +730,8 @@ mod tests {
         assert_eq!(scaling.len(), 3);
         let embree_single = &scaling[0];
         assert_eq!(
-            (embree_single.backend.as_str(), embree_single.method),
-            ("embree", Method::Single)
+            (embree_single.backend, embree_single.method),
+            (BackendKind::Embree, Method::Single)
         );
         assert!((embree_single.speedup - 1.6).abs() < 1e-9);
         assert!((embree_single.efficiency - 0.8).abs() < 1e-9);

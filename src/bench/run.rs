@@ -398,7 +398,7 @@ fn trace_batch(
         .zip(positives.into_iter().zip(within))
         .map(|((tracer, timed), (positives, within))| Traced {
             report: QueryReport::new(
-                tracer.built.kind.name(),
+                tracer.built.kind,
                 tracer.method,
                 workload,
                 query,
@@ -578,7 +578,7 @@ fn bench_scene(
             // One check per backend and method: the answers do not depend on the pool.
             if tracer.pool.threads == 1 {
                 consistency.push(ConsistencyReport {
-                    backend: tracer.built.kind.name().to_string(),
+                    backend: tracer.built.kind,
                     method: tracer.method,
                     workload,
                     rays: closest.report.rays,
@@ -596,7 +596,7 @@ fn bench_scene(
         .iter()
         .zip(trade)
         .map(|(built, queries)| BuildReport {
-            backend: built.kind.name().to_string(),
+            backend: built.kind,
             quality: built.options.quality.name().to_string(),
             robust: built.options.robust,
             is_default: built.options == BuildOptions::default(),
