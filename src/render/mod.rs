@@ -186,7 +186,8 @@ pub fn render(
 /// and `pool` lets concurrent jobs share one pool instead of each starting its own.
 #[derive(Clone, Copy)]
 pub struct RenderInputs<'a> {
-    /// The scene's geometry, materials and textures (its `lights` are not read).
+    /// The scene's geometry, materials and textures. Its `lights` are not read here: `lights`
+    /// is the full list (for a job, `scene::defaults::lights_for` builds it from the scene's).
     pub scene: &'a Scene,
     /// The lights to render with.
     pub lights: &'a [crate::scene::Light],
