@@ -119,6 +119,16 @@ pub struct RenderArgs {
     /// Sample cap of a progressive render.
     #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
     pub max_spp: u32,
+    /// Light transport: path (path tracing with NEE and MIS) or direct (direct light and
+    /// mirror chains only).
+    #[arg(long, value_enum, default_value_t = render::Integrator::Path)]
+    pub integrator: render::Integrator,
+    /// A constant environment of this radiance, R,G,B in W/(m²·sr).
+    #[arg(long, value_name = "R,G,B", value_delimiter = ',', num_args = 3)]
+    pub background: Option<Vec<f32>>,
+    /// Camera rays that miss show black instead of the environment.
+    #[arg(long)]
+    pub env_hidden: bool,
 }
 
 /// A loaded scene and its ray-query structure, shared by the renders of `glint batch`.
@@ -238,6 +248,10 @@ pub fn render_prepared(
         ));
     }
     let settings = render_settings(args, width, height);
+    let environment = args
+        .background
+        .as_deref()
+        .map(|c| crate::light::environment::EnvironmentLight::constant(glam::Vec3::from_slice(c)));
     let inputs = RenderInputs {
         scene,
         lights: &lights,
@@ -245,6 +259,7 @@ pub fn render_prepared(
         camera: &camera,
         pool,
         mipmaps: Some(prepared.mipmaps),
+        environment: environment.as_ref(),
     };
     if let Some(samples) = partial_samples(args)? {
         let (part, stats) =
@@ -326,6 +341,8 @@ pub fn render_settings(args: &RenderArgs, width: u32, height: u32) -> RenderSett
         texture_filter: args.texture_filter,
         filter: args.filter,
         sampling: args.sampler,
+        integrator: args.integrator,
+        environment_visible: !args.env_hidden,
         ..RenderSettings::default()
     }
 }
