@@ -13,6 +13,7 @@
 
 pub mod lambert;
 pub mod mirror;
+pub mod scattering;
 pub mod texture;
 
 pub use lambert::Lambert;

@@ -53,6 +53,19 @@ pub(crate) struct TileContext<'a> {
     pub differentials: bool,
     /// Film distance between neighbouring samples, 1/√spp pixels.
     pub differential_spacing: f32,
+    /// The environment light, if the render has one.
+    pub environment: Option<&'a crate::light::environment::EnvironmentLight>,
+    /// Whether camera rays that miss show the environment.
+    pub environment_visible: bool,
+    /// The scene's emissive triangles as lights (`None` when nothing emits).
+    pub area_lights: Option<crate::light::area::AreaLights>,
+    /// The direct integrator's rule for the path kernel: follow delta lobes only, light the
+    /// rest by light sampling alone (no MIS, no indirect light).
+    pub delta_only: bool,
+    /// Light or BSDF sampling or both (path kernel).
+    pub light_strategy: super::LightStrategy,
+    /// Russian roulette on (path kernel).
+    pub russian_roulette: bool,
 }
 
 /// The samples one pass adds: indices `first_sample .. first_sample + spp` of every pixel's
@@ -101,7 +114,9 @@ pub(crate) struct Scratch {
     shadow_values: Vec<(u32, Vec3)>,
     occluded: Vec<bool>,
     /// Ray differentials, index-aligned with `rays` (empty unless carried).
-    diffs: Vec<RayDifferential>,
+    pub(super) diffs: Vec<RayDifferential>,
+    /// The path tracer's buffers.
+    pub(super) path: super::path::PathScratch,
     next_diffs: Vec<RayDifferential>,
     /// Filter weight of each tile pixel's sample in flight.
     weights: Vec<f32>,
@@ -352,7 +367,7 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
 }
 
 /// A hit's footprint from its ray differential.
-struct Footprint {
+pub(super) struct Footprint {
     /// ∂p/∂x and ∂p/∂y on the tangent plane.
     surface: SurfaceDifferentials,
     /// Barycentric derivatives (∂b₁, ∂b₂) along film x.
@@ -364,7 +379,7 @@ struct Footprint {
 impl Footprint {
     /// `None` if the triangle's vertices are out of range (the hit is then unfiltered).
     #[inline]
-    fn at(mesh: &Mesh, si: &SurfaceInteraction, rd: &RayDifferential) -> Option<Self> {
+    pub(super) fn at(mesh: &Mesh, si: &SurfaceInteraction, rd: &RayDifferential) -> Option<Self> {
         let [a, b, c] = si.vertices.map(|i| mesh.positions.get(i as usize).copied());
         let triangle = [a?, b?, c?];
         let surface = differentials::at_surface(rd, si.p, si.ng);
@@ -430,7 +445,7 @@ fn texcoords(
 /// The texture's value at the hit: interpolated texture coordinates and their footprint, the
 /// texture transform applied to both, then a filtered lookup.
 #[inline]
-fn texture_value(
+pub(super) fn texture_value(
     ctx: &TileContext<'_>,
     mesh: &Mesh,
     si: &SurfaceInteraction,
@@ -460,7 +475,7 @@ fn texture_value(
 
 /// A procedural texture's colour at the hit, band-limited as the filter asks.
 #[inline]
-fn procedural_value(
+pub(super) fn procedural_value(
     ctx: &TileContext<'_>,
     mesh: &Mesh,
     si: &SurfaceInteraction,

@@ -68,6 +68,21 @@ impl KernelFlags {
 /// A tile renderer: one monomorphised instance of the integrator.
 pub(crate) type TileFn = fn(&TileContext<'_>, Pass, &Tile, &mut Scratch) -> (TileSums, RayCounts);
 
+/// The path-tracing instance for `flags` (mirrors are part of every BSDF there).
+pub(crate) fn select_path(flags: &KernelFlags) -> TileFn {
+    use super::path::render_tile_path;
+    match (flags.textures, flags.vertex_colors, flags.shading_normals) {
+        (false, false, false) => render_tile_path::<false, false, false>,
+        (false, false, true) => render_tile_path::<false, false, true>,
+        (false, true, false) => render_tile_path::<false, true, false>,
+        (false, true, true) => render_tile_path::<false, true, true>,
+        (true, false, false) => render_tile_path::<true, false, false>,
+        (true, false, true) => render_tile_path::<true, false, true>,
+        (true, true, false) => render_tile_path::<true, true, false>,
+        (true, true, true) => render_tile_path::<true, true, true>,
+    }
+}
+
 /// The integrator instance for `flags` (the light typing is read from the context).
 pub(crate) fn select(flags: &KernelFlags) -> TileFn {
     macro_rules! pick {

@@ -18,6 +18,7 @@ pub mod job;
 pub mod kernel;
 pub mod options;
 pub mod partial;
+pub mod path;
 pub mod progressive;
 pub mod sampler;
 pub mod scheduler;
@@ -72,6 +73,50 @@ pub struct RenderSettings {
     pub texture_filter: TextureFilter,
     /// Pixel reconstruction filter.
     pub filter: FilterSpec,
+    /// Which light-transport estimator runs.
+    pub integrator: Integrator,
+    /// Whether camera rays that miss show the environment (the alpha channel is coverage
+    /// either way).
+    pub environment_visible: bool,
+    /// Which strategies estimate light from area lights and the environment in the path
+    /// tracer (MIS by default; the single strategies exist to test the estimators).
+    pub light_strategy: LightStrategy,
+    /// Whether the path tracer ends paths by Russian roulette (unbiased either way; off, every
+    /// path runs to `max_depth`).
+    pub russian_roulette: bool,
+}
+
+/// How the path tracer estimates light from surfaces and the environment it can also hit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightStrategy {
+    /// Light sampling and BSDF sampling, combined by the power heuristic.
+    #[default]
+    Mis,
+    /// Light sampling only: emitters hit by BSDF-sampled rays are not counted.
+    LightOnly,
+    /// BSDF sampling only: no light samples toward area lights or the environment (punctual
+    /// lights, which no ray can hit, are still sampled).
+    BsdfOnly,
+}
+
+/// The light-transport estimator.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Integrator {
+    /// Unidirectional path tracing with next-event estimation and MIS ([`path`]).
+    Path,
+    /// Direct light only (punctual, area and environment lights by light sampling) plus
+    /// mirror chains: glint's first integrator, exact for delta lights.
+    #[default]
+    Direct,
+}
+
+impl std::fmt::Display for Integrator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Integrator::Path => "path",
+            Integrator::Direct => "direct",
+        })
+    }
 }
 
 impl Default for RenderSettings {
@@ -89,6 +134,10 @@ impl Default for RenderSettings {
             kernel: KernelChoice::Specialised,
             texture_filter: TextureFilter::default(),
             filter: FilterSpec::default(),
+            integrator: Integrator::default(),
+            environment_visible: true,
+            light_strategy: LightStrategy::Mis,
+            russian_roulette: true,
         }
     }
 }
@@ -200,6 +249,8 @@ pub struct RenderInputs<'a> {
     /// The scene's MIP chains from [`build_mipmaps`], built once at load and shared by every
     /// render of the scene; `None` builds them for this render (when it reads textures).
     pub mipmaps: Option<&'a [crate::texture::MipMap]>,
+    /// The environment light, if any.
+    pub environment: Option<&'a crate::light::environment::EnvironmentLight>,
 }
 
 /// The MIP chains of every texture of `scene`, index-aligned with `scene.textures`: work that
@@ -223,6 +274,7 @@ impl<'a> RenderInputs<'a> {
             camera,
             pool: None,
             mipmaps: None,
+            environment: None,
         }
     }
 }

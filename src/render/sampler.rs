@@ -151,6 +151,80 @@ impl PixelSampler {
     }
 }
 
+/// The random numbers one path consumes after its pixel position: light choice, light
+/// point, BSDF lobe and direction, Russian roulette, bounce after bounce.
+///
+/// Each request takes the next *slot* and draws one or two numbers from it. With Sobol
+/// sampling every slot is its own 2D Owen-scrambled Sobol sequence, indexed by the sample
+/// number and seeded by (pixel, slot): pbrt-v4's and Cycles' "padded" construction. Any slot
+/// is a well-stratified (0, 2)-sequence over the pixel's samples, slots are independent of
+/// each other, and the dimension count is unlimited (a long path never runs out of Sobol
+/// dimensions). The other modes draw independent uniform numbers per slot. Slot 0 is the pixel
+/// position ([`PixelSampler::offset`]), so a path's own slots start at 1.
+#[derive(Clone, Copy, Debug)]
+pub struct SampleStream {
+    sobol: bool,
+    index: u32,
+    /// The pixel's scramble (Sobol) or key (random modes).
+    key: u64,
+    slot: u32,
+}
+
+impl PixelSampler {
+    /// The stream of sample `sample` of pixel `(x, y)`.
+    #[inline]
+    pub fn stream(&self, x: u32, y: u32, sample: u32) -> SampleStream {
+        match self.mode {
+            PixelSampling::Sobol => SampleStream {
+                sobol: true,
+                index: sample % SOBOL_BLOCK,
+                key: pixel_scramble(self.seed, x, y, sample / SOBOL_BLOCK) as u64,
+                slot: 1,
+            },
+            _ => SampleStream {
+                sobol: false,
+                index: sample,
+                key: sample_key(self.seed, x, y, sample),
+                slot: 1,
+            },
+        }
+    }
+}
+
+impl SampleStream {
+    /// The next two numbers in `[0, 1)²`, stratified together.
+    #[inline]
+    pub fn next_2d(&mut self) -> Vec2 {
+        let slot = self.slot;
+        self.slot = self.slot.wrapping_add(1);
+        let h = mix64(self.key ^ (slot as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+        if self.sobol {
+            let seed = (h ^ (h >> 32)) as u32;
+            Vec2::new(
+                sobol_burley::sample(self.index, 0, seed),
+                sobol_burley::sample(self.index, 1, seed),
+            )
+        } else {
+            let mut rng = Pcg32::seed_from_u64(h);
+            Vec2::new(rng.random::<f32>(), rng.random::<f32>())
+        }
+    }
+
+    /// The next number in `[0, 1)` (a slot of its own).
+    #[inline]
+    pub fn next_1d(&mut self) -> f32 {
+        self.next_2d().x
+    }
+}
+
+/// SplitMix64's finaliser: every input bit affects every output bit.
+#[inline]
+fn mix64(mut h: u64) -> u64 {
+    h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    h ^ (h >> 31)
+}
+
 /// One 64-bit key per (seed, pixel, sample). Pcg32's seeding hashes the key further, so it only
 /// needs to be distinct: pixel coordinates and sample index go to separate bit ranges (x in
 /// 20 bits, y in 20, sample in 24) before the seed is mixed in with an odd multiplier.
@@ -166,11 +240,7 @@ fn sample_key(seed: u64, x: u32, y: u32, sample: u32) -> u64 {
 /// the render seed and the pixel, so neighbouring pixels get unrelated scrambles.
 #[inline]
 fn pixel_scramble(seed: u64, x: u32, y: u32, block: u32) -> u32 {
-    let mut h = sample_key(seed, x, y, block);
-    // SplitMix64's finaliser: every input bit affects every output bit.
-    h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    h ^= h >> 31;
+    let h = mix64(sample_key(seed, x, y, block));
     (h ^ (h >> 32)) as u32
 }
 
@@ -225,6 +295,30 @@ mod tests {
             assert_eq!(mode.name().parse::<PixelSampling>(), Ok(mode));
         }
         assert!("halton".parse::<PixelSampling>().is_err());
+    }
+
+    #[test]
+    fn stream_slots_are_stratified_and_independent() {
+        // Each slot's first 16 samples fill a 4×4 grid once (a (0, 2)-sequence), and two
+        // slots of the same pixel differ.
+        let sampler = PixelSampler::new(PixelSampling::Sobol, 16, 5);
+        for slot in 0..4 {
+            let mut cells = [0u8; 16];
+            for s in 0..16 {
+                let mut stream = sampler.stream(7, 3, s);
+                for _ in 0..slot {
+                    stream.next_2d();
+                }
+                let p = stream.next_2d() * 4.0;
+                cells[p.y as usize * 4 + p.x as usize] += 1;
+            }
+            assert_eq!(cells, [1; 16], "slot {slot}");
+        }
+        let mut a = sampler.stream(7, 3, 0);
+        assert_ne!(a.next_2d(), a.next_2d());
+        let mut b = PixelSampler::new(PixelSampling::Independent, 16, 5).stream(7, 3, 0);
+        let (x, y) = (b.next_2d(), b.next_1d());
+        assert!(x.cmpge(Vec2::ZERO).all() && x.cmplt(Vec2::ONE).all() && (0.0..1.0).contains(&y));
     }
 
     #[test]

@@ -80,6 +80,7 @@ impl<'a> TileScheduler<'a> {
             camera,
             pool,
             mipmaps,
+            environment,
         } = *inputs;
         validate(settings)?;
         settings.filter.validate().map_err(RenderError::Settings)?;
@@ -100,6 +101,12 @@ impl<'a> TileScheduler<'a> {
             (true, None) => Cow::Owned(super::build_mipmaps(scene)),
         };
         let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
+        let area_lights = area_lights(scene);
+        // The path kernel runs for the path tracer, and for the direct integrator when the
+        // render has lights the classic kernel cannot sample (environment, emitters).
+        let path_kernel = settings.integrator == super::Integrator::Path
+            || environment.is_some()
+            || area_lights.is_some();
         let ctx = TileContext {
             scene,
             accel,
@@ -115,6 +122,12 @@ impl<'a> TileScheduler<'a> {
             texture_filter: settings.texture_filter,
             differentials: features.textures && settings.texture_filter.uses_footprint(),
             differential_spacing: 1.0 / (settings.spp as f32).sqrt(),
+            environment,
+            environment_visible: settings.environment_visible,
+            area_lights,
+            delta_only: settings.integrator == super::Integrator::Direct,
+            light_strategy: settings.light_strategy,
+            russian_roulette: settings.russian_roulette,
         };
         let pool = match pool {
             Some(shared) => Pool::Shared(shared),
@@ -122,7 +135,11 @@ impl<'a> TileScheduler<'a> {
         };
         Ok(Self {
             ctx,
-            render_tile: kernel::select(&flags),
+            render_tile: if path_kernel {
+                kernel::select_path(&flags)
+            } else {
+                kernel::select(&flags)
+            },
             pool,
             tiles: tiles::tiles(settings.width, settings.height, tiles::TILE_SIZE),
             next_sample: 0,
@@ -217,4 +234,24 @@ impl<'a> TileScheduler<'a> {
             stats: self.stats(),
         }
     }
+}
+
+/// The scene's emissive triangles as area lights, `None` if nothing emits. A triangle's
+/// power uses its material's emissive factor (an emissive texture scales it per point, which
+/// changes the sampling density's efficiency, not its correctness).
+fn area_lights(scene: &Scene) -> Option<crate::light::area::AreaLights> {
+    let emissive = |m: usize| {
+        scene
+            .meshes
+            .get(m)
+            .and_then(|mesh| scene.materials.get(mesh.material))
+            .map(|mat| (mat.emissive, mat.double_sided))
+            .unwrap_or((glam::Vec3::ZERO, false))
+    };
+    if !(0..scene.meshes.len()).any(|m| emissive(m).0 != glam::Vec3::ZERO) {
+        return None;
+    }
+    let lights =
+        crate::light::area::AreaLights::new(scene, |m, _| emissive(m).0, |m| emissive(m).1);
+    (!lights.is_empty()).then_some(lights)
 }
