@@ -16,11 +16,13 @@
 //! compile time: a scene without spot lights runs no cone test, one without ranges no window.
 
 pub mod directional;
+pub mod environment;
 pub mod point;
 pub mod range;
 pub mod spot;
 
 pub use directional::DirectionalLight;
+pub use environment::{EnvSample, EnvironmentError, EnvironmentLight};
 pub use point::PointLight;
 pub use range::{Bounded, RangeWindow, Unbounded};
 pub use spot::SpotLight;

@@ -269,7 +269,10 @@ mod tests {
         assert!(Distribution1D::new(&[0.0, 0.0]).is_none());
         assert!(Distribution1D::new(&[-1.0, f32::NAN]).is_none());
         assert!(Distribution2D::new(&[0.0; 6], 3, 2).is_none());
-        assert!(Distribution2D::new(&[1.0; 5], 3, 2).is_none(), "wrong length");
+        assert!(
+            Distribution2D::new(&[1.0; 5], 3, 2).is_none(),
+            "wrong length"
+        );
     }
 
     #[test]
@@ -302,7 +305,13 @@ mod tests {
     fn continuous_pdf_integrates_to_one_and_matches_samples() {
         let mut rng = Pcg64::seed_from_u64(2);
         let w: Vec<f32> = (0..37)
-            .map(|i| if i % 5 == 0 { 0.0 } else { rng.random::<f32>() * 4.0 })
+            .map(|i| {
+                if i % 5 == 0 {
+                    0.0
+                } else {
+                    rng.random::<f32>() * 4.0
+                }
+            })
             .collect();
         let d = Distribution1D::new(&w).unwrap();
         // The density is constant per bin: its integral is the sum over bin midpoints / n.
@@ -357,7 +366,11 @@ mod tests {
         for _ in 0..n {
             let (uv, pdf) = d.sample(Vec2::new(rng.random(), rng.random()));
             assert!(pdf > 0.0);
-            assert!((pdf - d.pdf(uv)).abs() <= 1e-5 * pdf, "{pdf} vs {}", d.pdf(uv));
+            assert!(
+                (pdf - d.pdf(uv)).abs() <= 1e-5 * pdf,
+                "{pdf} vs {}",
+                d.pdf(uv)
+            );
             let i = (uv.x * nu as f32) as usize;
             let j = (uv.y * nv as f32) as usize;
             counts[j * nu + i] += 1;

@@ -49,7 +49,10 @@ mod tests {
             counts[k] += 1;
         }
         for c in counts {
-            assert!((c as f64 - n as f64 / 4.0).abs() < 6.0 * 274.0, "{counts:?}");
+            assert!(
+                (c as f64 - n as f64 / 4.0).abs() < 6.0 * 274.0,
+                "{counts:?}"
+            );
         }
     }
 }
