@@ -15,12 +15,14 @@
 //! a scene's lights by type once, so a renderer loops over each type with the type known at
 //! compile time: a scene without spot lights runs no cone test, one without ranges no window.
 
+pub mod area;
 pub mod directional;
 pub mod environment;
 pub mod point;
 pub mod range;
 pub mod spot;
 
+pub use area::{AreaLights, AreaSample, EmitterMesh};
 pub use directional::DirectionalLight;
 pub use environment::{EnvSample, EnvironmentError, EnvironmentLight};
 pub use point::PointLight;
