@@ -306,3 +306,186 @@ fn no_emission_builds_nothing_and_bad_input_is_refused() {
         assert_eq!(i, 1);
     }
 }
+
+/// `n` random triangles in a 10 m box: random orientation and size, a quarter two-sided,
+/// every tenth black; Le per triangle random.
+fn random_emitters(n: usize, seed: u64) -> (Owned, Owned, Vec<Vec3>) {
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let mut one = Owned {
+        positions: vec![],
+        indices: vec![],
+        two_sided: false,
+    };
+    let mut two = Owned {
+        positions: vec![],
+        indices: vec![],
+        two_sided: true,
+    };
+    let mut le = Vec::new();
+    let mut v = || Vec3::new(rng.random(), rng.random(), rng.random()) - 0.5;
+    for k in 0..n {
+        let c = 10.0 * v();
+        let size = 0.05 + 0.5 * (v().x + 0.5);
+        let mesh = if k % 4 == 0 { &mut two } else { &mut one };
+        let base = mesh.positions.len() as u32;
+        mesh.positions
+            .extend([c + size * v(), c + size * v(), c + size * v()]);
+        mesh.indices.push([base, base + 1, base + 2]);
+        le.push(if k % 10 == 3 {
+            Vec3::ZERO
+        } else {
+            (v() + 0.5) * 4.0
+        });
+    }
+    (one, two, le)
+}
+
+#[test]
+fn light_bvh_pmf_sums_to_one_covers_every_reachable_light_and_matches_samples() {
+    let (one, two, le) = random_emitters(400, 21);
+    let (n_one, n_two) = (one.indices.len(), two.indices.len());
+    // Le by (mesh, triangle): mesh 0 holds the triangles k % 4 != 0, mesh 1 the others.
+    let order: Vec<usize> = (0..le.len())
+        .filter(|k| k % 4 != 0)
+        .chain((0..le.len()).filter(|k| k % 4 == 0))
+        .collect();
+    let le_of = |m: u32, t: u32| {
+        le[order[if m == 0 {
+            t as usize
+        } else {
+            n_one + t as usize
+        }]]
+    };
+    let lights =
+        AreaLights::with_selection(&[one.view(), two.view()], le_of, SelectionMode::Bvh).unwrap();
+    assert_eq!(lights.lights().len(), n_one + n_two);
+    let mut rng = Pcg64::seed_from_u64(22);
+    let mut v = || Vec3::new(rng.random(), rng.random(), rng.random()) - 0.5;
+    for trial in 0..20 {
+        let p = 14.0 * v();
+        let n = if trial % 3 == 0 {
+            Vec3::ZERO
+        } else {
+            v().normalize()
+        };
+        let mut sum = 0.0f64;
+        for (k, light) in lights.lights().iter().enumerate() {
+            let pmf = lights.selection_pmf(p, n, k);
+            assert!(pmf >= 0.0 && pmf.is_finite());
+            sum += f64::from(pmf);
+            // Conservative bounds: a light that can emit toward p has a positive probability.
+            let facing = light.normal.dot(p - light.p0) > 1e-4;
+            if light.power() > 0.0 && (facing || light.two_sided) {
+                assert!(
+                    pmf > 0.0,
+                    "trial {trial}: reachable light {k} has probability 0"
+                );
+            }
+            if light.power() == 0.0 {
+                assert_eq!(pmf, 0.0);
+            }
+        }
+        // One-sided lights facing away can empty a subtree the walk entered: then no light
+        // is chosen (those lights contribute nothing, so the estimator stays unbiased) and
+        // Σ pmf = 1 − P(no light). Check that against the sampler's failure frequency
+        // (binomial, 5σ).
+        assert!(sum <= 1.0 + 1e-5, "trial {trial}: Σ pmf = {sum}");
+        let draws = 20_000;
+        let failures = (0..draws)
+            .filter(|k| {
+                lights
+                    .select(p, n, (*k as f32 + 0.5) / draws as f32)
+                    .is_none()
+            })
+            .count();
+        let fail = failures as f64 / draws as f64;
+        let sigma = ((1.0 - sum).max(1e-4) * sum / draws as f64).sqrt();
+        assert!(
+            (fail - (1.0 - sum)).abs() < 5.0 * sigma + 1e-4,
+            "trial {trial}: Σ pmf = {sum}, sampler fails {fail}"
+        );
+    }
+    // With two-sided lights only, every node has positive importance everywhere: Σ pmf = 1.
+    let mut both = one;
+    both.two_sided = true;
+    let all =
+        AreaLights::with_selection(&[both.view(), two.view()], le_of, SelectionMode::Bvh).unwrap();
+    let mut rng = Pcg64::seed_from_u64(24);
+    let mut v = || Vec3::new(rng.random(), rng.random(), rng.random()) - 0.5;
+    for trial in 0..20 {
+        let p = 14.0 * v();
+        let n = if trial % 3 == 0 {
+            Vec3::ZERO
+        } else {
+            v().normalize()
+        };
+        let sum: f64 = (0..all.lights().len())
+            .map(|k| f64::from(all.selection_pmf(p, n, k)))
+            .sum();
+        assert!(
+            (sum - 1.0).abs() < 1e-5,
+            "two-sided, trial {trial}: Σ pmf = {sum}"
+        );
+    }
+    // Sampled frequencies against pmf() at one point, and each sample's own probability.
+    let (p, n) = (
+        Vec3::new(1.0, -2.0, 0.5),
+        Vec3::new(0.3, 1.0, -0.2).normalize(),
+    );
+    let count = lights.lights().len();
+    let samples = 400_000u64;
+    // The last bin counts the draws that chose no light, expected 1 − Σ pmf.
+    let mut counts = vec![0u64; count + 1];
+    let mut rng = Pcg64::seed_from_u64(23);
+    for _ in 0..samples {
+        let Some((k, pmf)) = lights.select(p, n, rng.random()) else {
+            counts[count] += 1;
+            continue;
+        };
+        let q = lights.selection_pmf(p, n, k);
+        assert!((pmf - q).abs() <= 1e-5 * q, "sampled {pmf} vs pmf() {q}");
+        counts[k] += 1;
+    }
+    let mut expected: Vec<f64> = (0..count)
+        .map(|k| f64::from(lights.selection_pmf(p, n, k)) * samples as f64)
+        .collect();
+    let chosen: f64 = expected.iter().sum();
+    expected.push((samples as f64 - chosen).max(0.0));
+    let (chi, dof) = chi_square(&counts, &expected);
+    assert!(chi < chi_square_threshold(dof), "χ² {chi}, {dof} dof");
+}
+
+#[test]
+fn light_bvh_irradiance_matches_the_closed_forms() {
+    // The same closed forms as with the power CDF: the BVH changes only the variance.
+    let l = 3.0f32;
+    let (r, h) = (1.0f32, 1.0f32);
+    let lights = AreaLights::with_selection(
+        &[disk(r, h, 1024).view()],
+        |_, _| Vec3::splat(l),
+        SelectionMode::Bvh,
+    )
+    .unwrap();
+    let ((mean, err), _) = estimate(&lights, 10_000_000, 5);
+    let exact = PI * f64::from(l) * f64::from(r * r / (r * r + h * h));
+    assert!(err < 2.5e-4 * exact);
+    assert!(
+        (mean - exact).abs() < 1e-3 * exact,
+        "E = {mean} ± {err}, closed form {exact}"
+    );
+    let (a, b, h) = (2.0f32, 0.5f32, 0.7f32);
+    let lights = AreaLights::with_selection(
+        &[rectangle(a, b, h).view()],
+        |_, _| Vec3::splat(l),
+        SelectionMode::Bvh,
+    )
+    .unwrap();
+    let ((mean, err), _) = estimate(&lights, 10_000_000, 6);
+    let (aa, bb) = (f64::from(a / (2.0 * h)), f64::from(b / (2.0 * h)));
+    let (sa, sb) = ((1.0 + aa * aa).sqrt(), (1.0 + bb * bb).sqrt());
+    let exact = 2.0 * f64::from(l) * (aa / sa * (bb / sa).atan() + bb / sb * (aa / sb).atan());
+    assert!(
+        (mean - exact).abs() < 1e-3 * exact && err < 2.5e-4 * exact,
+        "E = {mean} ± {err}, closed form {exact}"
+    );
+}

@@ -18,6 +18,7 @@
 pub mod area;
 pub mod directional;
 pub mod environment;
+pub mod light_bvh;
 pub mod point;
 pub mod range;
 pub mod spot;
