@@ -18,11 +18,14 @@
 pub mod area;
 pub mod directional;
 pub mod environment;
+pub mod light_bvh;
 pub mod point;
 pub mod range;
 pub mod spot;
 
+pub use area::{AreaLights, AreaSample, EmitterMesh};
 pub use directional::DirectionalLight;
+pub use environment::{EnvSample, EnvironmentError, EnvironmentLight};
 pub use point::PointLight;
 pub use range::{Bounded, RangeWindow, Unbounded};
 pub use spot::SpotLight;

@@ -58,7 +58,7 @@ pub(crate) struct TileContext<'a> {
     /// Whether camera rays that miss show the environment.
     pub environment_visible: bool,
     /// The scene's emissive triangles as lights (`None` when nothing emits).
-    pub area_lights: Option<crate::light::area::AreaLights>,
+    pub area_lights: Option<std::borrow::Cow<'a, crate::light::area::AreaLights>>,
     /// The direct integrator's rule for the path kernel: follow delta lobes only, light the
     /// rest by light sampling alone (no MIS, no indirect light).
     pub delta_only: bool,

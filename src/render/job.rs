@@ -17,6 +17,8 @@
 use super::{Progress, RenderError, RenderSettings, RenderStats, StopRule};
 use crate::accel::{Accel, BackendKind, BuildOptions};
 use crate::light::LightUnits;
+use crate::light::area::AreaLights;
+use crate::light::environment::{EnvironmentError, EnvironmentLight};
 use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr, write_png};
 use crate::scene::defaults::{self, NoSuchCamera};
 use crate::scene::gltf::LoadError;
@@ -97,6 +99,36 @@ pub enum LightSource {
     File(PathBuf),
 }
 
+/// The environment a job renders under: a light at infinity seen by rays that leave the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvironmentSource {
+    /// An equirectangular `.hdr` or `.exr` (mapping in [`crate::light::environment`]).
+    File {
+        /// The image.
+        path: PathBuf,
+        /// Radiance multiplier.
+        strength: f32,
+        /// Right-handed turn about +Y, degrees.
+        rotation_deg: f32,
+    },
+    /// A uniform environment of this radiance, W/(m²·sr).
+    Constant(Vec3),
+}
+
+impl EnvironmentSource {
+    /// Loads (or builds) the environment light.
+    pub fn light(&self) -> Result<EnvironmentLight, EnvironmentError> {
+        match self {
+            EnvironmentSource::File {
+                path,
+                strength,
+                rotation_deg,
+            } => EnvironmentLight::from_file(path, *strength, *rotation_deg),
+            EnvironmentSource::Constant(radiance) => Ok(EnvironmentLight::constant(*radiance)),
+        }
+    }
+}
+
 /// Which samples of [`RenderSettings::spp`] a job renders.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum Samples {
@@ -139,6 +171,9 @@ pub struct Job {
     pub camera: CameraChoice,
     /// Lights added to the scene's own.
     pub lights: Vec<LightSource>,
+    /// The environment; `None` leaves it to [`defaults::environment_for`] (the default
+    /// environment for a path-traced scene without punctual lights, else none).
+    pub environment: Option<EnvironmentSource>,
     /// Units of the scene's and the added lights' intensities.
     pub light_units: LightUnits,
     /// Image width; `None` derives it from the height and the camera (see [`image_size`]).
@@ -161,6 +196,7 @@ impl Default for Job {
             backend: BackendKind::default(),
             camera: CameraChoice::First,
             lights: Vec::new(),
+            environment: None,
             light_units: LightUnits::Radiometric,
             width: None,
             height: None,
@@ -198,6 +234,9 @@ pub enum JobError {
     /// A lights file cannot be used.
     #[error(transparent)]
     LightsFile(LightSpecError),
+    /// The environment cannot be loaded.
+    #[error(transparent)]
+    Environment(#[from] EnvironmentError),
     /// The render failed.
     #[error(transparent)]
     Render(#[from] RenderError),
@@ -230,6 +269,9 @@ pub struct PreparedScene {
     pub accel: Box<dyn Accel>,
     /// Its MIP chains ([`super::build_mipmaps`]), index-aligned with `scene.textures`.
     pub mipmaps: Vec<MipMap>,
+    /// Its emissive triangles as lights ([`super::build_area_lights`]; empty when nothing
+    /// emits).
+    pub area_lights: AreaLights,
 }
 
 impl PreparedScene {
@@ -244,11 +286,14 @@ impl PreparedScene {
         let accel = super::prepare(&scene, backend, BuildOptions::default())
             .map_err(|e| JobError::from(e).in_scene(&label))?;
         let mipmaps = super::build_mipmaps(&scene);
+        let area_lights =
+            super::build_area_lights(&scene).map_err(|e| JobError::from(e).in_scene(&label))?;
         Ok(Self {
             scene,
             label,
             accel,
             mipmaps,
+            area_lights,
         })
     }
 }
@@ -436,7 +481,22 @@ fn run_in_scene(
         say(note);
     }
     let camera = camera.value;
-    let lights = defaults::lights_for(scene, job.extra_lights()?, &camera);
+    let given = job.environment.as_ref().map(|e| e.light()).transpose()?;
+    let extra = job.extra_lights()?;
+    let environment = defaults::environment_for(scene, &extra, given, job.settings.integrator);
+    if let Some(note) = environment.added {
+        say(note);
+    }
+    let environment = environment.value;
+    let lights = if environment.is_some() {
+        // An environment lights the scene: no default sun on top of it.
+        defaults::Completed {
+            value: scene.lights.iter().cloned().chain(extra).collect(),
+            added: None,
+        }
+    } else {
+        defaults::lights_for(scene, extra, &camera)
+    };
     // Default lights are radiometric: only lights from the scene or the job are in the job's
     // units.
     let light_units = match lights.added {
@@ -469,6 +529,8 @@ fn run_in_scene(
         camera: &camera,
         pool,
         mipmaps: Some(&prepared.mipmaps),
+        environment: environment.as_ref(),
+        area_lights: Some(&prepared.area_lights),
     };
     let output = job.output.as_ref();
     if let Some(samples) = job.partial_samples()? {

@@ -251,6 +251,64 @@ pub struct RenderInputs<'a> {
     pub mipmaps: Option<&'a [crate::texture::MipMap]>,
     /// The environment light, if any.
     pub environment: Option<&'a crate::light::environment::EnvironmentLight>,
+    /// The scene's emissive triangles from [`build_area_lights`], built once at load; `None`
+    /// builds them for this render.
+    pub area_lights: Option<&'a crate::light::area::AreaLights>,
+}
+
+/// Emissive-triangle counts from which lights are chosen by the light BVH rather than by
+/// power alone (a BVH over a handful of emitters costs more than it saves).
+pub const LIGHT_BVH_MIN_EMITTERS: usize = 16;
+
+/// The scene's emissive triangles as area lights, with their selection tables: work that
+/// depends only on the scene, done once at load. A triangle's power uses its material's
+/// emissive factor times the mean of its emissive texture (the texture's value varies over
+/// the triangle; that changes how well the sampling density fits, not the estimate's mean).
+/// Empty when nothing emits.
+pub fn build_area_lights(scene: &Scene) -> Result<crate::light::area::AreaLights, RenderError> {
+    use crate::light::area::{AreaLights, SelectionMode};
+    let texture_mean = |t: &Option<crate::scene::TextureRef>| -> glam::Vec3 {
+        let Some(texture) = t.and_then(|r| scene.textures.get(r.texture)) else {
+            return glam::Vec3::ONE;
+        };
+        let n = texture.texels.len().max(1) as f64;
+        let sum = texture
+            .texels
+            .iter()
+            .fold(glam::DVec3::ZERO, |acc, t| acc + t.truncate().as_dvec3());
+        (sum / n).as_vec3()
+    };
+    let mean_le: Vec<glam::Vec3> = scene
+        .materials
+        .iter()
+        .map(|m| {
+            if m.emissive == glam::Vec3::ZERO {
+                glam::Vec3::ZERO
+            } else {
+                m.emissive * texture_mean(&m.emissive_texture)
+            }
+        })
+        .collect();
+    let emitters: usize = scene
+        .meshes
+        .iter()
+        .filter(|m| mean_le.get(m.material).is_some_and(|le| *le != glam::Vec3::ZERO))
+        .map(|m| m.indices.len())
+        .sum();
+    let mode = if emitters >= LIGHT_BVH_MIN_EMITTERS {
+        SelectionMode::Bvh
+    } else {
+        SelectionMode::Power
+    };
+    let le = |mesh: u32, _triangle: u32| {
+        scene
+            .meshes
+            .get(mesh as usize)
+            .and_then(|m| mean_le.get(m.material))
+            .copied()
+            .unwrap_or(glam::Vec3::ZERO)
+    };
+    AreaLights::from_scene(scene, le, mode).map_err(|e| RenderError::Settings(e.to_string()))
 }
 
 /// The MIP chains of every texture of `scene`, index-aligned with `scene.textures`: work that
@@ -275,6 +333,7 @@ impl<'a> RenderInputs<'a> {
             pool: None,
             mipmaps: None,
             environment: None,
+            area_lights: None,
         }
     }
 }

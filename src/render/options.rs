@@ -4,7 +4,7 @@
 
 use crate::accel::BackendKind;
 use crate::light::LightUnits;
-use crate::render::job::{CameraChoice, LightSource, OutputSpec, Samples, SceneSource};
+use crate::render::job::{CameraChoice, EnvironmentSource, LightSource, OutputSpec, Samples, SceneSource};
 use crate::render::{self, AovSelection, Job, JobError, RenderSettings};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -110,6 +110,26 @@ pub struct RenderArgs {
     /// Sample cap of a progressive render.
     #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
     pub max_spp: u32,
+    /// Light transport: path (path tracing with next-event estimation and MIS) or direct
+    /// (direct light and mirror chains only).
+    #[arg(long, value_enum, default_value_t = render::Integrator::Path)]
+    pub integrator: render::Integrator,
+    /// Environment map: an equirectangular .hdr or .exr.
+    #[arg(long, value_name = "FILE", conflicts_with = "background")]
+    pub env: Option<PathBuf>,
+    /// Radiance multiplier of --env.
+    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    pub env_strength: f32,
+    /// Rotation of --env about +Y, degrees (right-handed).
+    #[arg(long, default_value_t = 0.0, value_name = "DEG", allow_negative_numbers = true)]
+    pub env_rotation: f32,
+    /// A uniform environment of radiance R,G,B (W/(m²·sr)).
+    #[arg(long, value_name = "R,G,B", value_delimiter = ',', num_args = 1)]
+    pub background: Option<Vec<f32>>,
+    /// Camera rays that miss show black instead of the environment (alpha is coverage either
+    /// way).
+    #[arg(long)]
+    pub env_hidden: bool,
 }
 
 impl RenderArgs {
@@ -133,6 +153,32 @@ impl RenderArgs {
         let mut lights: Vec<LightSource> =
             self.light.iter().cloned().map(LightSource::Spec).collect();
         lights.extend(self.lights_file.clone().map(LightSource::File));
+        let environment = match (&self.env, &self.background) {
+            (Some(path), _) => Some(EnvironmentSource::File {
+                path: path.clone(),
+                strength: self.env_strength,
+                rotation_deg: self.env_rotation,
+            }),
+            (None, Some(rgb)) => match rgb.as_slice() {
+                &[r, g, b] if [r, g, b].iter().all(|c| c.is_finite() && *c >= 0.0) => {
+                    Some(EnvironmentSource::Constant(glam::Vec3::new(r, g, b)))
+                }
+                _ => {
+                    return Err(JobError::Options(format!(
+                        "--background {rgb:?}: give three non-negative numbers R,G,B"
+                    )));
+                }
+            },
+            (None, None) => None,
+        };
+        if !(self.env_strength.is_finite() && self.env_strength >= 0.0)
+            || !self.env_rotation.is_finite()
+        {
+            return Err(JobError::Options(format!(
+                "--env-strength {} / --env-rotation {}: give finite numbers (strength ≥ 0)",
+                self.env_strength, self.env_rotation
+            )));
+        }
         Ok(Job {
             scene: match &self.scene {
                 Some(path) => SceneSource::File(path.clone()),
@@ -144,6 +190,7 @@ impl RenderArgs {
                 None => CameraChoice::First,
             },
             lights,
+            environment,
             light_units: if self.photometric {
                 LightUnits::Photometric
             } else {
@@ -160,6 +207,8 @@ impl RenderArgs {
                 texture_filter: self.texture_filter,
                 filter: self.filter,
                 sampling: self.sampler,
+                integrator: self.integrator,
+                environment_visible: !self.env_hidden,
                 ..RenderSettings::default()
             },
             samples,

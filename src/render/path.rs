@@ -31,7 +31,7 @@
 
 use super::camera::CameraRays;
 use super::film::TileSums;
-use super::integrator::{Footprint, Scratch, TileContext, procedural_value, texture_value};
+use super::integrator::{Footprint, Pass, Scratch, TileContext, procedural_value, texture_value};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use super::tiles::Tile;
@@ -63,8 +63,10 @@ pub(crate) struct PathState {
     pdf: f32,
     /// The ray is a camera ray or left a delta lobe: whatever it hits counts with weight 1.
     specular: bool,
-    /// Where the ray left (for the light density of the emitter it hits).
+    /// Where the ray left and the shading normal there (for the light density of the
+    /// emitter it hits, which depends on both with the light BVH).
     origin: Vec3,
+    origin_normal: Vec3,
 }
 
 /// Buffers of the path tracer, reused across tiles.
@@ -100,6 +102,7 @@ pub(crate) fn render_tile_path<
     const SHADING_NORMALS: bool,
 >(
     ctx: &TileContext<'_>,
+    pass: Pass,
     tile: &Tile,
     scratch: &mut Scratch,
 ) -> (TileSums, RayCounts) {
@@ -109,7 +112,7 @@ pub(crate) fn render_tile_path<
     // Camera rays carry differentials for their first hit's texture footprint; bounce rays
     // look textures up at the finest level.
     let carry = TEXTURES && ctx.differentials;
-    for sample in ctx.first_sample..ctx.first_sample.saturating_add(ctx.spp) {
+    for sample in pass.first_sample..pass.first_sample.saturating_add(pass.spp) {
         s.rays.clear();
         s.paths.clear();
         s.weights.clear();
@@ -135,6 +138,7 @@ pub(crate) fn render_tile_path<
                 pdf: 0.0,
                 specular: true,
                 origin: ray.origin,
+                origin_normal: Vec3::ZERO,
             });
         }
         let mut depth = 0;
@@ -325,7 +329,13 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
     }
     if emission != Vec3::ZERO {
         let w = bsdf_hit_weight(ctx, path, || match &ctx.area_lights {
-            Some(area) => area.pdf(path.origin, Vec3::ZERO, hit.geom_id, hit.prim_id, si.p, hit.ng),
+            Some(area) => area.pdf(
+                path.origin,
+                path.origin_normal,
+                hit.geom_id,
+                hit.prim_id,
+                si.p,
+            ),
             None => 0.0,
         });
         sums.pending[pixel] += path.beta * emission * w;
@@ -381,6 +391,7 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
         pdf: bs.pdf,
         specular: bs.delta,
         origin: si.p,
+        origin_normal: si.ns,
         ..*path
     });
 }

@@ -81,6 +81,7 @@ impl<'a> TileScheduler<'a> {
             pool,
             mipmaps,
             environment,
+            area_lights,
         } = *inputs;
         validate(settings)?;
         settings.filter.validate().map_err(RenderError::Settings)?;
@@ -101,7 +102,11 @@ impl<'a> TileScheduler<'a> {
             (true, None) => Cow::Owned(super::build_mipmaps(scene)),
         };
         let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
-        let area_lights = area_lights(scene);
+        let area_lights: Option<Cow<'a, crate::light::area::AreaLights>> = match area_lights {
+            Some(shared) => Some(Cow::Borrowed(shared)),
+            None => Some(Cow::Owned(super::build_area_lights(scene)?)),
+        }
+        .filter(|lights| !lights.is_empty());
         // The path kernel runs for the path tracer, and for the direct integrator when the
         // render has lights the classic kernel cannot sample (environment, emitters).
         let path_kernel = settings.integrator == super::Integrator::Path
@@ -236,22 +241,3 @@ impl<'a> TileScheduler<'a> {
     }
 }
 
-/// The scene's emissive triangles as area lights, `None` if nothing emits. A triangle's
-/// power uses its material's emissive factor (an emissive texture scales it per point, which
-/// changes the sampling density's efficiency, not its correctness).
-fn area_lights(scene: &Scene) -> Option<crate::light::area::AreaLights> {
-    let emissive = |m: usize| {
-        scene
-            .meshes
-            .get(m)
-            .and_then(|mesh| scene.materials.get(mesh.material))
-            .map(|mat| (mat.emissive, mat.double_sided))
-            .unwrap_or((glam::Vec3::ZERO, false))
-    };
-    if !(0..scene.meshes.len()).any(|m| emissive(m).0 != glam::Vec3::ZERO) {
-        return None;
-    }
-    let lights =
-        crate::light::area::AreaLights::new(scene, |m, _| emissive(m).0, |m| emissive(m).1);
-    (!lights.is_empty()).then_some(lights)
-}

@@ -1,0 +1,403 @@
+//! Area lights: every triangle of an emissive mesh, sampled for next-event estimation.
+//!
+//! # Emission
+//!
+//! Triangle `k` emits the constant radiance `Le_k` (W/(m²·sr)) from its front face (the side
+//! its counter-clockwise winding faces, unit normal `n_l = normalize((p₁ − p₀) × (p₂ − p₀))`),
+//! or from both faces when two-sided. For a textured emitter `Le_k` is the caller's average of
+//! the emission over the triangle: it only steers the sampling (any positive value would keep
+//! the estimator unbiased), while the integrator evaluates the true emission at the sampled
+//! point. Its power is
+//!
+//! ```text
+//! Φ_k = π · A_k · Y(Le_k) · (2 if two-sided else 1)
+//! ```
+//!
+//! with `A_k` the area and `Y` the Rec. 709 luminance.
+//!
+//! # Sampling
+//!
+//! A light is chosen with probability `P(k)` by the [`LightSelector`]: in proportion to
+//! `Φ_k` (a [`Distribution1D`]) or, for many lights, by the light BVH of
+//! [`light_bvh`](super::light_bvh), which also weighs distance and orientation from the shading
+//! point. A point `x` on it is then uniform by area (density `1/A_k`), and the density of the
+//! direction `ω = (x − p)/|x − p|` at the shading point `p` is, with respect to solid angle,
+//!
+//! ```text
+//! p(ω) = P(k) · |x − p|² / (A_k · |cos θ_l|),     cos θ_l = n_l · (−ω)
+//! ```
+//!
+//! [`AreaLights::pdf`] returns the same density for a point a BSDF-sampled ray hit, for MIS.
+//! Points on the back of a one-sided emitter emit nothing: [`AreaLights::sample`] returns
+//! `None` for them, and `pdf` returns 0 there.
+
+use super::light_bvh::LightBvh;
+use crate::sampling::distribution::Distribution1D;
+use crate::sampling::triangle::uniform_triangle;
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
+
+/// Rec. 709 luminance weights, for the power of a light.
+const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+
+/// One emissive mesh as the constructor sees it: world-space triangles and whether both faces
+/// emit. A mesh that emits nothing is passed with no triangles (so mesh indices stay those of
+/// the scene).
+#[derive(Clone, Copy, Debug)]
+pub struct EmitterMesh<'a> {
+    /// World-space vertex positions.
+    pub positions: &'a [Vec3],
+    /// Three vertex indices per triangle, counter-clockwise front faces.
+    pub indices: &'a [[u32; 3]],
+    /// Whether the back face emits too (glTF `doubleSided`).
+    pub two_sided: bool,
+}
+
+/// An emissive mesh that cannot be used as a light.
+#[derive(Debug, thiserror::Error)]
+pub enum AreaLightError {
+    /// A triangle names a vertex the mesh does not have.
+    #[error(
+        "area light: mesh {mesh}, triangle {triangle}: vertex index {index} is out of range ({vertices} vertices); fix the mesh's index accessor"
+    )]
+    Index {
+        /// Mesh index.
+        mesh: usize,
+        /// Triangle index in the mesh.
+        triangle: usize,
+        /// The bad vertex index.
+        index: u32,
+        /// Vertices the mesh has.
+        vertices: usize,
+    },
+    /// The emission of a triangle is negative or not finite.
+    #[error(
+        "area light: mesh {mesh}, triangle {triangle}: emitted radiance {radiance} must be finite and non-negative; fix the material's emissiveFactor, KHR_materials_emissive_strength or emissive texture"
+    )]
+    Radiance {
+        /// Mesh index.
+        mesh: usize,
+        /// Triangle index in the mesh.
+        triangle: usize,
+        /// The value given.
+        radiance: Vec3,
+    },
+    /// More triangles than a `u32` can index.
+    #[error("area light: {count} emissive triangles are more than 2³² − 1")]
+    TooMany {
+        /// How many.
+        count: usize,
+    },
+}
+
+/// One emissive triangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleLight {
+    /// Vertex 0.
+    pub p0: Vec3,
+    /// `p₁ − p₀`.
+    pub e1: Vec3,
+    /// `p₂ − p₀`.
+    pub e2: Vec3,
+    /// Unit geometric normal of the winding (zero for a degenerate triangle).
+    pub normal: Vec3,
+    /// Area (m²).
+    pub area: f32,
+    /// Average emitted radiance.
+    pub le: Vec3,
+    /// Whether both faces emit.
+    pub two_sided: bool,
+    /// Mesh index.
+    pub mesh: u32,
+    /// Triangle index in the mesh.
+    pub triangle: u32,
+}
+
+impl TriangleLight {
+    /// `Φ = π A Y(Le)`, doubled when two-sided; 0 for a degenerate triangle.
+    pub fn power(&self) -> f32 {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        PI * self.area * self.le.dot(LUMINANCE) * sides
+    }
+
+    /// The centroid.
+    pub fn centroid(&self) -> Vec3 {
+        self.p0 + (self.e1 + self.e2) / 3.0
+    }
+
+    /// The three vertices.
+    pub fn vertices(&self) -> [Vec3; 3] {
+        [self.p0, self.p0 + self.e1, self.p0 + self.e2]
+    }
+}
+
+/// A point sampled on an area light, seen from a shading point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaSample {
+    /// Mesh index (as passed to the constructor: the scene's).
+    pub mesh: u32,
+    /// Triangle index in the mesh.
+    pub triangle: u32,
+    /// Barycentrics of `point` for vertices 0, 1, 2 (to evaluate an emissive texture).
+    pub barycentrics: [f32; 3],
+    /// The point on the light.
+    pub point: Vec3,
+    /// Unit geometric normal of the triangle's winding.
+    pub normal: Vec3,
+    /// Unit direction from the shading point to `point`.
+    pub wi: Vec3,
+    /// Distance from the shading point to `point`.
+    pub distance: f32,
+    /// Density of `wi` with respect to solid angle at the shading point, the light's selection
+    /// probability included.
+    pub pdf: f32,
+    /// The triangle's average emitted radiance (exact for an untextured emitter).
+    pub le: Vec3,
+}
+
+/// How a light is chosen.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum SelectionMode {
+    /// In proportion to power, independent of the shading point.
+    #[default]
+    Power,
+    /// The light BVH (importance from power, distance and orientation); the better choice for
+    /// many emitters (see docs/lights.md for the measured gain).
+    Bvh,
+}
+
+/// The light-selection strategy of an [`AreaLights`].
+#[derive(Clone, Debug)]
+pub enum LightSelector {
+    /// A power CDF.
+    Power(Distribution1D),
+    /// A light BVH.
+    Bvh(LightBvh),
+}
+
+/// Every emissive triangle of a scene, with the tables to sample them.
+#[derive(Clone, Debug)]
+pub struct AreaLights {
+    lights: Vec<TriangleLight>,
+    /// Per mesh, the index of its first triangle in `lights`, or `u32::MAX` when it has none:
+    /// all triangles of an emissive mesh are stored (zero-power ones with probability 0), so
+    /// triangle `t` of mesh `m` is light `mesh_first[m] + t`.
+    mesh_first: Vec<u32>,
+    /// `None` when no triangle emits.
+    selector: Option<LightSelector>,
+}
+
+impl AreaLights {
+    /// Builds the lights from `meshes`, where `le(mesh, triangle)` is the average emitted
+    /// radiance of that triangle (called once per triangle of a mesh with triangles),
+    /// choosing lights by power.
+    pub fn new(
+        meshes: &[EmitterMesh<'_>],
+        le: impl Fn(u32, u32) -> Vec3,
+    ) -> Result<Self, AreaLightError> {
+        Self::with_selection(meshes, le, SelectionMode::Power)
+    }
+
+    /// As [`new`](Self::new), choosing lights by `mode`.
+    pub fn with_selection(
+        meshes: &[EmitterMesh<'_>],
+        le: impl Fn(u32, u32) -> Vec3,
+        mode: SelectionMode,
+    ) -> Result<Self, AreaLightError> {
+        let count: usize = meshes.iter().map(|m| m.indices.len()).sum();
+        if count >= u32::MAX as usize || meshes.len() >= u32::MAX as usize {
+            return Err(AreaLightError::TooMany { count });
+        }
+        let mut lights = Vec::with_capacity(count);
+        let mut mesh_first = Vec::with_capacity(meshes.len());
+        for (m, mesh) in meshes.iter().enumerate() {
+            if mesh.indices.is_empty() {
+                mesh_first.push(u32::MAX);
+                continue;
+            }
+            // Fits: lights.len() < count < u32::MAX, checked above.
+            mesh_first.push(lights.len() as u32);
+            for (t, tri) in mesh.indices.iter().enumerate() {
+                let vertex = |i: u32| {
+                    mesh.positions
+                        .get(i as usize)
+                        .copied()
+                        .ok_or(AreaLightError::Index {
+                            mesh: m,
+                            triangle: t,
+                            index: i,
+                            vertices: mesh.positions.len(),
+                        })
+                };
+                let (p0, p1, p2) = (vertex(tri[0])?, vertex(tri[1])?, vertex(tri[2])?);
+                let radiance = le(m as u32, t as u32);
+                if !(radiance.is_finite() && radiance.min_element() >= 0.0) {
+                    return Err(AreaLightError::Radiance {
+                        mesh: m,
+                        triangle: t,
+                        radiance,
+                    });
+                }
+                let (e1, e2) = (p1 - p0, p2 - p0);
+                let cross = e1.cross(e2);
+                let area = 0.5 * cross.length();
+                let ok = area.is_finite() && area > 0.0;
+                lights.push(TriangleLight {
+                    p0,
+                    e1,
+                    e2,
+                    normal: if ok { cross.normalize() } else { Vec3::ZERO },
+                    area: if ok { area } else { 0.0 },
+                    le: radiance,
+                    two_sided: mesh.two_sided,
+                    mesh: m as u32,
+                    triangle: t as u32,
+                });
+            }
+        }
+        let powers: Vec<f32> = lights.iter().map(TriangleLight::power).collect();
+        let selector = match mode {
+            SelectionMode::Power => Distribution1D::new(&powers).map(LightSelector::Power),
+            SelectionMode::Bvh => LightBvh::new(&lights, &powers).map(LightSelector::Bvh),
+        };
+        Ok(Self {
+            lights,
+            mesh_first,
+            selector,
+        })
+    }
+
+    /// Builds the lights of a scene: meshes whose material has a non-zero emissive factor,
+    /// two-sided when the material is double-sided; `le(mesh, triangle)` gives each
+    /// triangle's average emission (the factor times the emissive texture's average over it).
+    pub fn from_scene(
+        scene: &crate::scene::Scene,
+        le: impl Fn(u32, u32) -> Vec3,
+        mode: SelectionMode,
+    ) -> Result<Self, AreaLightError> {
+        let meshes: Vec<EmitterMesh<'_>> = scene
+            .meshes
+            .iter()
+            .map(|mesh| {
+                let material = scene.materials.get(mesh.material);
+                let emits = material.is_some_and(|m| m.emissive.max_element() > 0.0);
+                EmitterMesh {
+                    positions: &mesh.positions,
+                    indices: if emits { &mesh.indices } else { &[] },
+                    two_sided: material.is_some_and(|m| m.double_sided),
+                }
+            })
+            .collect();
+        Self::with_selection(&meshes, le, mode)
+    }
+
+    /// Whether nothing emits (no light to sample; an integrator skips next-event estimation
+    /// for area lights).
+    pub fn is_empty(&self) -> bool {
+        self.selector.is_none()
+    }
+
+    /// The stored triangles (every triangle of each emissive mesh, zero-power ones included).
+    pub fn lights(&self) -> &[TriangleLight] {
+        &self.lights
+    }
+
+    /// Total emitted power `Σ Φ_k` (W), for choosing between area lights and other lights.
+    pub fn total_power(&self) -> f32 {
+        self.lights.iter().map(TriangleLight::power).sum()
+    }
+
+    /// The light index of triangle `triangle` of mesh `mesh`, if it is stored.
+    #[inline]
+    pub fn light_index(&self, mesh: u32, triangle: u32) -> Option<usize> {
+        let first = *self.mesh_first.get(mesh as usize)?;
+        if first == u32::MAX {
+            return None;
+        }
+        let index = first as usize + triangle as usize;
+        let light = self.lights.get(index)?;
+        // Guards against a triangle index past the end of its own mesh.
+        (light.mesh == mesh && light.triangle == triangle).then_some(index)
+    }
+
+    /// The probability that the selector chooses light `index` for the shading point `p` with
+    /// normal `n`.
+    #[inline]
+    pub fn selection_pmf(&self, p: Vec3, n: Vec3, index: usize) -> f32 {
+        match &self.selector {
+            None => 0.0,
+            Some(LightSelector::Power(d)) => d.pmf(index),
+            Some(LightSelector::Bvh(bvh)) => bvh.pmf(p, n, index),
+        }
+    }
+
+    /// Chooses a light for the shading point `p` (normal `n`, zero if unknown) with `u`:
+    /// `(index, probability)`.
+    #[inline]
+    pub fn select(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32)> {
+        match self.selector.as_ref()? {
+            LightSelector::Power(d) => {
+                let (i, pmf, _) = d.sample_discrete(u);
+                Some((i, pmf))
+            }
+            LightSelector::Bvh(bvh) => bvh.sample(p, n, u),
+        }
+    }
+
+    /// Samples a point on a light for the shading point `p` with normal `n` (zero for
+    /// "unknown"): `u_select` chooses the light, `u` the point on it. `None` when nothing
+    /// emits, the chosen point faces away (one-sided) or coincides with `p`.
+    #[inline]
+    pub fn sample(&self, p: Vec3, n: Vec3, u_select: f32, u: Vec2) -> Option<AreaSample> {
+        let (index, pmf) = self.select(p, n, u_select)?;
+        let light = self.lights.get(index)?;
+        let b = uniform_triangle(u);
+        let point = light.p0 + b[1] * light.e1 + b[2] * light.e2;
+        let d = point - p;
+        let dist2 = d.length_squared();
+        if !(dist2 > 0.0 && dist2.is_finite()) || pmf <= 0.0 {
+            return None;
+        }
+        let distance = dist2.sqrt();
+        let wi = d / distance;
+        let cos_l = -wi.dot(light.normal);
+        if cos_l == 0.0 || (!light.two_sided && cos_l < 0.0) {
+            return None;
+        }
+        Some(AreaSample {
+            mesh: light.mesh,
+            triangle: light.triangle,
+            barycentrics: b,
+            point,
+            normal: light.normal,
+            wi,
+            distance,
+            pdf: pmf * dist2 / (light.area * cos_l.abs()),
+            le: light.le,
+        })
+    }
+
+    /// The solid-angle density with which [`sample`](Self::sample), called at `p` with normal
+    /// `n`, returns `point` on triangle `triangle` of mesh `mesh`: for MIS when a BSDF-sampled
+    /// ray hits an emitter there. 0 for a triangle that is not a light, a zero-power one, or
+    /// the back of a one-sided one. (The brief's `light_normal` argument is not needed: the
+    /// stored geometric normal is what `sample` uses.)
+    #[inline]
+    pub fn pdf(&self, p: Vec3, n: Vec3, mesh: u32, triangle: u32, point: Vec3) -> f32 {
+        let Some(index) = self.light_index(mesh, triangle) else {
+            return 0.0;
+        };
+        let light = &self.lights[index];
+        let d = point - p;
+        let dist2 = d.length_squared();
+        if !(dist2 > 0.0 && dist2.is_finite()) {
+            return 0.0;
+        }
+        let cos_l = -d.dot(light.normal) / dist2.sqrt();
+        if cos_l == 0.0 || (!light.two_sided && cos_l < 0.0) {
+            return 0.0;
+        }
+        let pmf = self.selection_pmf(p, n, index);
+        pmf * dist2 / (light.area * cos_l.abs())
+    }
+}

@@ -1,0 +1,630 @@
+//! The environment light: radiance arriving from infinitely far away, from a constant colour
+//! or an equirectangular (latitude-longitude) image.
+//!
+//! # Mapping
+//!
+//! Blender's, after its glTF import, so an HDRI looks the same in both. For a unit world
+//! direction `d = (x, y, z)` (glTF, +Y up) and the rotation `rot` (radians, a right-handed turn
+//! of the environment about +Y):
+//!
+//! ```text
+//! u = frac(0.5 + (atan2(z, x) + rot) / 2π)    from the image's left edge
+//! v = acos(y) / π                              from its top row
+//! ```
+//!
+//! so with `rot = 0`, +X is the image centre, −Z is u = 0.25, +Z is u = 0.75 and −X the seam.
+//! The inverse, used to turn a sampled `(u, v)` into a direction, is
+//! `φ = 2π(u − ½) − rot`, `θ = πv`, `d = (sin θ cos φ, cos θ, sin θ sin φ)`.
+//!
+//! # Lookup
+//!
+//! [`Interpolation::Bilinear`] (the default) matches Blender's "Linear" environment texture:
+//! texel `(i, j)` has its centre at `((i + ½)/w, (j + ½)/h)`, and a lookup blends the four
+//! nearest centres, wrapping around in u (the seam is continuous) and clamping in v (a
+//! lookup above the top row's centre takes the top row). [`Interpolation::Nearest`] returns
+//! the texel containing `(u, v)`. `strength` multiplies every texel.
+//!
+//! # Importance sampling
+//!
+//! A [`Distribution2D`] over the `w × h` texel cells of the unit square, cell `(i, j)` weighted
+//! by `Y(L̄_ij) · sin θ_j`, where `θ_j = π (j + ½)/h` is the row centre's polar angle, `Y` the
+//! Rec. 709 luminance, and `L̄_ij` the average of the *looked-up* radiance over the cell: the
+//! texel itself for nearest lookup, and for bilinear lookup the separable blend
+//! `⅛ L_{i−1} + ¾ L_i + ⅛ L_{i+1}` in each axis (the exact cell average of the bilinear
+//! reconstruction, with the same wrap and clamp). A sampled `(u, v)` with density `p(u, v)`
+//! becomes a direction with the solid-angle density
+//!
+//! ```text
+//! p(ω) = p(u, v) / (2π² sin θ)      (dω = 2π² sin θ du dv)
+//! ```
+//!
+//! with θ the direction's own polar angle. The estimator is unbiased: the bilinear value in a
+//! cell is a non-negative blend of exactly the texels that enter `L̄` with positive weight, and
+//! `Y` has positive coefficients, so the density is positive wherever the radiance is (the
+//! two poles, a set of measure zero, aside). A constant environment is sampled uniformly over
+//! the sphere (`p = 1/4π`).
+
+mod load;
+
+pub use load::{DEFAULT_PIXEL_BUDGET, EnvImage, read_env_image};
+
+use crate::sampling::distribution::{Distribution2D, ONE_MINUS_EPSILON};
+use glam::{Vec2, Vec3};
+use std::f32::consts::{FRAC_1_PI, PI, TAU};
+use std::path::{Path, PathBuf};
+
+/// Rec. 709 luminance weights, for the sampling weights.
+const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+
+/// An environment that cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum EnvironmentError {
+    /// The file cannot be opened or read.
+    #[error("environment {}: {source}; check the --env path", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// Neither an OpenEXR nor a Radiance HDR file.
+    #[error(
+        "environment {}: not an OpenEXR (.exr) or Radiance HDR (.hdr) file; convert it to one of those, e.g. `oiiotool in.png -o out.exr`",
+        path.display()
+    )]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The header cannot be read.
+    #[error("environment {} ({format}): {message}; the file may be truncated or not an equirectangular image", path.display())]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// "OpenEXR" or "Radiance HDR".
+        format: &'static str,
+        /// The decoder's message.
+        message: String,
+    },
+    /// The EXR's pixels cannot be decoded (an unsupported compression, missing R, G, B
+    /// channels, or damaged data).
+    #[error(
+        "environment {} (OpenEXR, {compression} compression): cannot read its RGB pixels: {message}; if the compression is the problem, convert it, e.g. `oiiotool in.exr --compression zip -o out.exr` or re-save it from Blender with ZIP compression",
+        path.display()
+    )]
+    ExrPixels {
+        /// The file.
+        path: PathBuf,
+        /// The compression named in its header.
+        compression: String,
+        /// The decoder's message.
+        message: String,
+    },
+    /// The image has no pixels.
+    #[error("environment {}: the image has no pixels", path.display())]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The image is over the pixel budget (checked before decoding).
+    #[error(
+        "environment {}: {width}×{height} texels exceed the budget of {budget}; downscale it, e.g. `oiiotool in.exr --resize 8192x4096 -o out.exr`",
+        path.display()
+    )]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Columns in the header.
+        width: u64,
+        /// Rows in the header.
+        height: u64,
+        /// The budget in texels.
+        budget: u64,
+    },
+    /// Some texels are NaN or infinite.
+    #[error(
+        "environment {}: {count} texels are not finite (NaN or infinite), the first at column {x}, row {y}; repair the image (e.g. clamp it in an image editor) before using it as a light",
+        path.display()
+    )]
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// How many texels.
+        count: usize,
+        /// Column of the first.
+        x: usize,
+        /// Row of the first (from the top).
+        y: usize,
+    },
+    /// A parameter is out of range.
+    #[error(
+        "environment: {what} {value} must be {must}; fix --env-strength, --env-rotation or --background"
+    )]
+    Parameter {
+        /// Which parameter.
+        what: &'static str,
+        /// Its value.
+        value: String,
+        /// What it must be.
+        must: &'static str,
+    },
+    /// The texel count does not match the size.
+    #[error("environment: {texels} texels for a {width}×{height} image")]
+    Size {
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+        /// Texels given.
+        texels: usize,
+    },
+}
+
+/// How an image environment is looked up between texel centres.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Interpolation {
+    /// The texel containing the direction.
+    Nearest,
+    /// Blend of the four nearest texel centres (Blender's "Linear"), the default.
+    #[default]
+    Bilinear,
+}
+
+/// Options for an image environment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvOptions {
+    /// Multiplies the radiance (finite, ≥ 0).
+    pub strength: f32,
+    /// A right-handed turn of the environment about +Y, in degrees (finite).
+    pub rotation_deg: f32,
+    /// The lookup between texel centres.
+    pub interpolation: Interpolation,
+    /// The most texels an image may have (checked before decoding a file).
+    pub pixel_budget: u64,
+}
+
+impl Default for EnvOptions {
+    fn default() -> Self {
+        Self {
+            strength: 1.0,
+            rotation_deg: 0.0,
+            interpolation: Interpolation::Bilinear,
+            pixel_budget: DEFAULT_PIXEL_BUDGET,
+        }
+    }
+}
+
+/// A direction sampled from the environment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvSample {
+    /// Unit world direction toward the environment.
+    pub wi: Vec3,
+    /// Radiance arriving along `-wi` (strength applied), W/(m²·sr).
+    pub radiance: Vec3,
+    /// Density of `wi` with respect to solid angle (> 0).
+    pub pdf: f32,
+}
+
+#[derive(Clone, Debug)]
+struct Map {
+    width: usize,
+    height: usize,
+    texels: Vec<Vec3>,
+    interpolation: Interpolation,
+    /// `None` when every texel is black: nothing to sample.
+    distribution: Option<Distribution2D>,
+}
+
+#[derive(Clone, Debug)]
+enum Kind {
+    Constant(Vec3),
+    Map(Map),
+}
+
+/// The environment light (see the module doc for the mapping, lookup and sampling).
+#[derive(Clone, Debug)]
+pub struct EnvironmentLight {
+    kind: Kind,
+    /// Rotation about +Y in radians.
+    rotation: f32,
+}
+
+impl EnvironmentLight {
+    /// Loads an equirectangular `.hdr` or `.exr` with bilinear lookup and the default pixel
+    /// budget; `strength` multiplies the radiance, `rotation_deg` turns it about +Y.
+    pub fn from_file(
+        path: &Path,
+        strength: f32,
+        rotation_deg: f32,
+    ) -> Result<Self, EnvironmentError> {
+        Self::from_file_with(
+            path,
+            &EnvOptions {
+                strength,
+                rotation_deg,
+                ..EnvOptions::default()
+            },
+        )
+    }
+
+    /// Loads an equirectangular `.hdr` or `.exr` with the given options.
+    pub fn from_file_with(path: &Path, options: &EnvOptions) -> Result<Self, EnvironmentError> {
+        check_options(options)?;
+        let image = read_env_image(path, options.pixel_budget)?;
+        Self::from_image(image, options)
+    }
+
+    /// An environment from texels already in memory (row 0 at the top). Negative channels
+    /// are clamped to 0; non-finite ones are an error.
+    pub fn from_image(image: EnvImage, options: &EnvOptions) -> Result<Self, EnvironmentError> {
+        check_options(options)?;
+        let EnvImage {
+            width,
+            height,
+            mut texels,
+        } = image;
+        if width.checked_mul(height) != Some(texels.len()) || texels.is_empty() {
+            return Err(EnvironmentError::Size {
+                width,
+                height,
+                texels: texels.len(),
+            });
+        }
+        if let Some(k) = texels.iter().position(|t| !t.is_finite()) {
+            return Err(EnvironmentError::NonFinite {
+                path: PathBuf::from("(in memory)"),
+                count: texels.iter().filter(|t| !t.is_finite()).count(),
+                x: k % width,
+                y: k / width,
+            });
+        }
+        for t in &mut texels {
+            *t = t.max(Vec3::ZERO) * options.strength;
+        }
+        let weights = sampling_weights(width, height, &texels, options.interpolation);
+        let distribution = Distribution2D::new(&weights, width, height);
+        Ok(Self {
+            kind: Kind::Map(Map {
+                width,
+                height,
+                texels,
+                interpolation: options.interpolation,
+                distribution,
+            }),
+            rotation: options.rotation_deg.to_radians(),
+        })
+    }
+
+    /// A uniform environment of the given radiance in every direction. Negative or
+    /// non-finite channels are taken as 0.
+    pub fn constant(radiance: Vec3) -> Self {
+        let r = Vec3::select(radiance.cmpge(Vec3::ZERO), radiance, Vec3::ZERO);
+        let r = Vec3::select(r.is_finite_mask(), r, Vec3::ZERO);
+        Self {
+            kind: Kind::Constant(r),
+            rotation: 0.0,
+        }
+    }
+
+    /// Whether the radiance is the same in every direction (an integrator may then sample
+    /// the BSDF alone, or use a cosine-weighted direction).
+    pub fn is_constant(&self) -> bool {
+        matches!(self.kind, Kind::Constant(_))
+    }
+
+    /// Whether the environment emits nothing anywhere (no sampling, no lookups needed).
+    pub fn is_black(&self) -> bool {
+        match &self.kind {
+            Kind::Constant(c) => *c == Vec3::ZERO,
+            Kind::Map(m) => m.distribution.is_none(),
+        }
+    }
+
+    /// The image size `(width, height)`, `None` for a constant environment.
+    pub fn size(&self) -> Option<(usize, usize)> {
+        match &self.kind {
+            Kind::Constant(_) => None,
+            Kind::Map(m) => Some((m.width, m.height)),
+        }
+    }
+
+    /// The rotation about +Y in radians.
+    pub fn rotation(&self) -> f32 {
+        self.rotation
+    }
+
+    /// The image coordinates `(u, v) ∈ [0, 1)²` of a unit world direction (module doc).
+    #[inline]
+    pub fn direction_to_uv(&self, d: Vec3) -> Vec2 {
+        let phi = d.z.atan2(d.x);
+        let u = (0.5 + (phi + self.rotation) / TAU).rem_euclid(1.0);
+        // atan2(sin θ, cos θ) rather than acos(y): accurate near the poles too.
+        let v = (d.x * d.x + d.z * d.z).sqrt().atan2(d.y) * FRAC_1_PI;
+        // rem_euclid of a tiny negative rounds to 1.0; keep u inside [0, 1).
+        Vec2::new(u.min(ONE_MINUS_EPSILON), v.min(ONE_MINUS_EPSILON))
+    }
+
+    /// The unit world direction of image coordinates `(u, v)` (inverse of
+    /// [`direction_to_uv`](Self::direction_to_uv)).
+    #[inline]
+    pub fn uv_to_direction(&self, uv: Vec2) -> Vec3 {
+        let phi = TAU * (uv.x - 0.5) - self.rotation;
+        let theta = PI * uv.y;
+        let (sin_t, cos_t) = theta.sin_cos();
+        let (sin_p, cos_p) = phi.sin_cos();
+        Vec3::new(sin_t * cos_p, cos_t, sin_t * sin_p)
+    }
+
+    /// Radiance arriving from the unit world direction `d` (travelling along `-d`).
+    #[inline]
+    pub fn radiance(&self, d: Vec3) -> Vec3 {
+        match &self.kind {
+            Kind::Constant(c) => *c,
+            Kind::Map(m) => m.lookup(self.direction_to_uv(d)),
+        }
+    }
+
+    /// Samples a direction with density ∝ luminance (module doc); `None` when the
+    /// environment is black (or, with vanishing probability, at a pole).
+    #[inline]
+    pub fn sample(&self, u: Vec2) -> Option<EnvSample> {
+        match &self.kind {
+            Kind::Constant(c) => {
+                if *c == Vec3::ZERO {
+                    return None;
+                }
+                let z = 1.0 - 2.0 * u.y;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let (s, co) = (TAU * u.x).sin_cos();
+                Some(EnvSample {
+                    wi: Vec3::new(r * co, z, r * s),
+                    radiance: *c,
+                    pdf: 0.25 * FRAC_1_PI,
+                })
+            }
+            Kind::Map(m) => {
+                let (uv, pdf_uv) = m.distribution.as_ref()?.sample(u);
+                let sin_theta = (PI * uv.y).sin();
+                if pdf_uv <= 0.0 || sin_theta <= 0.0 {
+                    return None;
+                }
+                Some(EnvSample {
+                    wi: self.uv_to_direction(uv),
+                    radiance: m.lookup(uv),
+                    pdf: pdf_uv / (2.0 * PI * PI * sin_theta),
+                })
+            }
+        }
+    }
+
+    /// The solid-angle density with which [`sample`](Self::sample) returns the unit world
+    /// direction `d` (for MIS when a BSDF-sampled ray escapes).
+    #[inline]
+    pub fn pdf(&self, d: Vec3) -> f32 {
+        match &self.kind {
+            Kind::Constant(c) => {
+                if *c == Vec3::ZERO {
+                    0.0
+                } else {
+                    0.25 * FRAC_1_PI
+                }
+            }
+            Kind::Map(m) => {
+                let Some(dist) = &m.distribution else {
+                    return 0.0;
+                };
+                let uv = self.direction_to_uv(d);
+                // √(x² + z²), not √(1 − y²): accurate near the poles, where 1 − y² cancels.
+                let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
+                if sin_theta <= 0.0 {
+                    return 0.0;
+                }
+                dist.pdf(uv) / (2.0 * PI * PI * sin_theta)
+            }
+        }
+    }
+
+    /// The radiance averaged over the sphere, `(1/4π) ∮ L dω` (for a map, each texel weighted
+    /// by its solid angle): a measure of the environment's power for choosing between it and
+    /// other lights.
+    pub fn average_radiance(&self) -> Vec3 {
+        match &self.kind {
+            Kind::Constant(c) => *c,
+            Kind::Map(m) => {
+                let mut sum = glam::DVec3::ZERO;
+                for j in 0..m.height {
+                    let t0 = PI * j as f32 / m.height as f32;
+                    let t1 = PI * (j + 1) as f32 / m.height as f32;
+                    // Solid angle of one texel of row j, over 4π.
+                    let w = f64::from((t0.cos() - t1.cos()) / (2.0 * m.width as f32));
+                    let row: glam::DVec3 = m.texels[j * m.width..(j + 1) * m.width]
+                        .iter()
+                        .map(|t| t.as_dvec3())
+                        .sum();
+                    sum += row * w;
+                }
+                sum.as_vec3()
+            }
+        }
+    }
+}
+
+impl Map {
+    #[inline]
+    fn texel(&self, i: usize, j: usize) -> Vec3 {
+        self.texels[j * self.width + i]
+    }
+
+    #[inline]
+    fn lookup(&self, uv: Vec2) -> Vec3 {
+        let (w, h) = (self.width, self.height);
+        match self.interpolation {
+            Interpolation::Nearest => {
+                let i = ((uv.x * w as f32) as usize).min(w - 1);
+                let j = ((uv.y * h as f32) as usize).min(h - 1);
+                self.texel(i, j)
+            }
+            Interpolation::Bilinear => {
+                let x = uv.x * w as f32 - 0.5;
+                let y = uv.y * h as f32 - 0.5;
+                let (x0, y0) = (x.floor(), y.floor());
+                let (fx, fy) = (x - x0, y - y0);
+                // Wrap in u; x0 ≥ −1, so adding w keeps it non-negative.
+                let i0 = (x0 as i64 + w as i64).rem_euclid(w as i64) as usize;
+                let i1 = (i0 + 1) % w;
+                // Clamp in v.
+                let j0 = (y0.max(0.0) as usize).min(h - 1);
+                let j1 = ((y0 + 1.0).max(0.0) as usize).min(h - 1);
+                let top = self.texel(i0, j0).lerp(self.texel(i1, j0), fx);
+                let bottom = self.texel(i0, j1).lerp(self.texel(i1, j1), fx);
+                top.lerp(bottom, fy)
+            }
+        }
+    }
+}
+
+fn check_options(o: &EnvOptions) -> Result<(), EnvironmentError> {
+    if !(o.strength.is_finite() && o.strength >= 0.0) {
+        return Err(EnvironmentError::Parameter {
+            what: "strength",
+            value: o.strength.to_string(),
+            must: "finite and non-negative",
+        });
+    }
+    if !o.rotation_deg.is_finite() {
+        return Err(EnvironmentError::Parameter {
+            what: "rotation",
+            value: o.rotation_deg.to_string(),
+            must: "finite (degrees)",
+        });
+    }
+    Ok(())
+}
+
+/// Per cell, the luminance of the cell-averaged lookup times the row centre's sin θ.
+fn sampling_weights(w: usize, h: usize, texels: &[Vec3], interp: Interpolation) -> Vec<f32> {
+    let lum: Vec<f32> = texels.iter().map(|t| t.dot(LUMINANCE)).collect();
+    let averaged = match interp {
+        Interpolation::Nearest => lum,
+        Interpolation::Bilinear => {
+            // ⅛ ¾ ⅛ along u (wrapping), then along v (clamped).
+            let mut across = vec![0.0f32; w * h];
+            for j in 0..h {
+                let row = &lum[j * w..(j + 1) * w];
+                for i in 0..w {
+                    let l = row[(i + w - 1) % w];
+                    let r = row[(i + 1) % w];
+                    across[j * w + i] = 0.125 * l + 0.75 * row[i] + 0.125 * r;
+                }
+            }
+            let mut out = vec![0.0f32; w * h];
+            for j in 0..h {
+                let up = j.saturating_sub(1);
+                let down = (j + 1).min(h - 1);
+                for i in 0..w {
+                    out[j * w + i] = 0.125 * across[up * w + i]
+                        + 0.75 * across[j * w + i]
+                        + 0.125 * across[down * w + i];
+                }
+            }
+            out
+        }
+    };
+    averaged
+        .iter()
+        .enumerate()
+        .map(|(k, &l)| l * (PI * ((k / w) as f32 + 0.5) / h as f32).sin())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp(w: usize, h: usize) -> EnvImage {
+        let texels = (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                Vec3::new(
+                    (i as f32 + 0.5) / w as f32,
+                    (j as f32 + 0.5) / h as f32,
+                    1.0,
+                )
+            })
+            .collect();
+        EnvImage {
+            width: w,
+            height: h,
+            texels,
+        }
+    }
+
+    #[test]
+    fn uv_and_direction_are_inverse() {
+        let env = EnvironmentLight::from_image(
+            ramp(8, 4),
+            &EnvOptions {
+                rotation_deg: 33.0,
+                ..EnvOptions::default()
+            },
+        )
+        .unwrap();
+        for k in 0..100 {
+            let uv = Vec2::new((k as f32 * 0.618_034).fract(), 0.005 + 0.0099 * k as f32);
+            let back = env.direction_to_uv(env.uv_to_direction(uv));
+            let du = (back.x - uv.x).abs();
+            assert!(
+                du.min(1.0 - du) < 1e-5 && (back.y - uv.y).abs() < 1e-4,
+                "{uv} {back}"
+            );
+        }
+    }
+
+    #[test]
+    fn bilinear_reproduces_a_linear_ramp_between_centres() {
+        let env = EnvironmentLight::from_image(ramp(16, 8), &EnvOptions::default()).unwrap();
+        let Kind::Map(m) = &env.kind else {
+            unreachable!()
+        };
+        for &(u, v) in &[(0.3, 0.4), (0.5, 0.5), (0.9, 0.1), (0.05, 0.9)] {
+            let l = m.lookup(Vec2::new(u, v));
+            assert!(
+                (l.x - u).abs() < 1e-5 && (l.y - v).abs() < 1e-5,
+                "{u} {v}: {l}"
+            );
+        }
+        // Wraps across the seam: halfway between the last and first column centres.
+        let l = m.lookup(Vec2::new(0.0, 0.5));
+        assert!((l.x - 0.5).abs() < 1e-5);
+        // Clamps at the poles.
+        assert!((m.lookup(Vec2::new(0.5, 0.0)).y - 1.0 / 16.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn black_and_bad_parameters() {
+        let black = EnvImage {
+            width: 2,
+            height: 1,
+            texels: vec![Vec3::ZERO; 2],
+        };
+        let env = EnvironmentLight::from_image(black, &EnvOptions::default()).unwrap();
+        assert!(env.is_black() && env.sample(Vec2::splat(0.5)).is_none());
+        assert_eq!(env.pdf(Vec3::X), 0.0);
+        let bad = EnvOptions {
+            strength: -1.0,
+            ..EnvOptions::default()
+        };
+        assert!(EnvironmentLight::from_image(ramp(2, 2), &bad).is_err());
+        let nan = EnvImage {
+            width: 1,
+            height: 1,
+            texels: vec![Vec3::new(f32::NAN, 0.0, 0.0)],
+        };
+        assert!(matches!(
+            EnvironmentLight::from_image(nan, &EnvOptions::default()),
+            Err(EnvironmentError::NonFinite { .. })
+        ));
+        assert!(EnvironmentLight::constant(Vec3::ZERO).is_black());
+        assert!(EnvironmentLight::constant(Vec3::ONE).is_constant());
+    }
+}
