@@ -4,7 +4,8 @@
 //! E = ∫ Le cos θ dω is estimated by light sampling alone (no occlusion, as in the tests)
 //! with N samples per selector; the per-sample variances are compared.
 //!
-//! `cargo run --release --example light_sampler_variance [N]`
+//! `cargo run --release --example light_sampler_variance [N] [GRID]` (GRID × GRID quads over
+//! the same 32 m, default 32)
 
 use glam::{Vec2, Vec3};
 use glint::light::area::{AreaLights, EmitterMesh, SelectionMode};
@@ -16,8 +17,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(100_000);
-    let grid = 32usize;
-    let (spacing, size, height) = (1.0f32, 0.1f32, 2.0f32);
+    let grid: usize = std::env::args()
+        .nth(2)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(32);
+    // The grid always spans 32 m, so fewer emitters are farther apart.
+    let spacing = 32.0 / grid as f32;
+    let (size, height) = (0.1f32, 2.0f32);
     let mut positions = Vec::new();
     let mut indices = Vec::new();
     let mut rng = Pcg64::seed_from_u64(1);
@@ -111,7 +117,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         per(times[0]),
         per(times[1])
     );
-    near_emitters(n)?;
+    if grid == 32 {
+        near_emitters(n)?;
+    }
     Ok(())
 }
 
