@@ -43,11 +43,7 @@ impl Frame {
         if t == Vec3::ZERO || !t.is_finite() {
             return Self::from_normal(n);
         }
-        Self {
-            t,
-            b: n.cross(t),
-            n,
-        }
+        Self { t, b: n.cross(t), n }
     }
 
     /// World → local.

@@ -27,15 +27,26 @@
 //! p(ω) = P(k) · |x − p|² / (A_k · |cos θ_l|),     cos θ_l = n_l · (−ω)
 //! ```
 //!
+//! Large or near triangles are instead sampled uniformly over the solid angle they subtend
+//! (Arvo 1995, [`spherical_triangle`]) when that solid angle Ω lies in
+//! [`SOLID_ANGLE_RANGE`]: then `p(ω) = P(k) / Ω`, which removes the variance of
+//! `|x − p|² / |cos θ_l|` close to big emitters. Tiny ones (where the spherical construction
+//! loses precision, and area sampling is nearly uniform in solid angle anyway) and nearly
+//! full-hemisphere ones stay with area sampling. The choice depends only on `p` and the
+//! triangle, so [`AreaLights::pdf`] makes the same one.
+//!
 //! [`AreaLights::pdf`] returns the same density for a point a BSDF-sampled ray hit, for MIS.
 //! Points on the back of a one-sided emitter emit nothing: [`AreaLights::sample`] returns
 //! `None` for them, and `pdf` returns 0 there.
 
 use super::light_bvh::LightBvh;
 use crate::sampling::distribution::Distribution1D;
-use crate::sampling::triangle::uniform_triangle;
+use crate::sampling::triangle::{spherical_triangle, spherical_triangle_area, uniform_triangle};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
+
+/// The solid angles (sr) for which a triangle is sampled by solid angle rather than by area.
+pub const SOLID_ANGLE_RANGE: (f32, f32) = (3e-4, 6.0);
 
 /// Rec. 709 luminance weights, for the power of a light.
 const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
@@ -185,6 +196,8 @@ pub struct AreaLights {
     mesh_first: Vec<u32>,
     /// `None` when no triangle emits.
     selector: Option<LightSelector>,
+    /// Whether triangles in [`SOLID_ANGLE_RANGE`] are sampled by solid angle.
+    solid_angle_sampling: bool,
 }
 
 impl AreaLights {
@@ -264,6 +277,7 @@ impl AreaLights {
             lights,
             mesh_first,
             selector,
+            solid_angle_sampling: true,
         })
     }
 
@@ -351,11 +365,38 @@ impl AreaLights {
     pub fn sample(&self, p: Vec3, n: Vec3, u_select: f32, u: Vec2) -> Option<AreaSample> {
         let (index, pmf) = self.select(p, n, u_select)?;
         let light = self.lights.get(index)?;
+        if pmf <= 0.0 {
+            return None;
+        }
+        if let Some((dirs, omega)) = self.spherical(light, p) {
+            // Facing away from p: no emission toward it.
+            if !light.two_sided && light.normal.dot(p - light.p0) <= 0.0 {
+                return None;
+            }
+            let wi = spherical_triangle(dirs[0], dirs[1], dirs[2], u)?;
+            let denom = light.normal.dot(wi);
+            let t = light.normal.dot(light.p0 - p) / denom;
+            if !(t > 0.0 && t.is_finite()) {
+                return None;
+            }
+            let point = p + t * wi;
+            return Some(AreaSample {
+                mesh: light.mesh,
+                triangle: light.triangle,
+                barycentrics: barycentrics(light, point),
+                point,
+                normal: light.normal,
+                wi,
+                distance: t,
+                pdf: pmf / omega,
+                le: light.le,
+            });
+        }
         let b = uniform_triangle(u);
         let point = light.p0 + b[1] * light.e1 + b[2] * light.e2;
         let d = point - p;
         let dist2 = d.length_squared();
-        if !(dist2 > 0.0 && dist2.is_finite()) || pmf <= 0.0 {
+        if !(dist2 > 0.0 && dist2.is_finite()) {
             return None;
         }
         let distance = dist2.sqrt();
@@ -377,6 +418,32 @@ impl AreaLights {
         })
     }
 
+    /// Turns solid-angle sampling of large or near triangles on (the default) or off (area
+    /// sampling only; for measuring what it buys).
+    pub fn with_solid_angle_sampling(mut self, on: bool) -> Self {
+        self.solid_angle_sampling = on;
+        self
+    }
+
+    /// The unit directions from `p` to the vertices and the solid angle, when `light` is to be
+    /// sampled by solid angle from `p`.
+    #[inline]
+    fn spherical(&self, light: &TriangleLight, p: Vec3) -> Option<([Vec3; 3], f32)> {
+        if !self.solid_angle_sampling {
+            return None;
+        }
+        let [a, b, c] = light.vertices();
+        let dirs = [
+            (a - p).try_normalize()?,
+            (b - p).try_normalize()?,
+            (c - p).try_normalize()?,
+        ];
+        let omega = spherical_triangle_area(dirs[0], dirs[1], dirs[2]);
+        (SOLID_ANGLE_RANGE.0..=SOLID_ANGLE_RANGE.1)
+            .contains(&omega)
+            .then_some((dirs, omega))
+    }
+
     /// The solid-angle density with which [`sample`](Self::sample), called at `p` with normal
     /// `n`, returns `point` on triangle `triangle` of mesh `mesh`: for MIS when a BSDF-sampled
     /// ray hits an emitter there. 0 for a triangle that is not a light, a zero-power one, or
@@ -388,6 +455,12 @@ impl AreaLights {
             return 0.0;
         };
         let light = &self.lights[index];
+        if let Some((_, omega)) = self.spherical(light, p) {
+            if !light.two_sided && light.normal.dot(p - light.p0) <= 0.0 {
+                return 0.0;
+            }
+            return self.selection_pmf(p, n, index) / omega;
+        }
         let d = point - p;
         let dist2 = d.length_squared();
         if !(dist2 > 0.0 && dist2.is_finite()) {
@@ -400,4 +473,23 @@ impl AreaLights {
         let pmf = self.selection_pmf(p, n, index);
         pmf * dist2 / (light.area * cos_l.abs())
     }
+}
+
+/// Barycentrics of `point` (on the plane of `light`) for its vertices 0, 1, 2, clamped into
+/// the triangle (the point is inside up to rounding).
+fn barycentrics(light: &TriangleLight, point: Vec3) -> [f32; 3] {
+    let q = point - light.p0;
+    let (d00, d01, d11) = (
+        light.e1.dot(light.e1),
+        light.e1.dot(light.e2),
+        light.e2.dot(light.e2),
+    );
+    let (d20, d21) = (q.dot(light.e1), q.dot(light.e2));
+    let denom = d00 * d11 - d01 * d01;
+    if denom <= 0.0 {
+        return [1.0, 0.0, 0.0];
+    }
+    let b1 = ((d11 * d20 - d01 * d21) / denom).clamp(0.0, 1.0);
+    let b2 = ((d00 * d21 - d01 * d20) / denom).clamp(0.0, 1.0 - b1);
+    [1.0 - b1 - b2, b1, b2]
 }
