@@ -45,13 +45,20 @@
 //! unsupported required extension, an image that does not decode.
 
 mod accessors;
+pub mod animation;
 mod error;
+mod instancing;
 mod materials;
+mod meshopt;
+mod morph;
 mod nodes;
 mod objects;
 mod primitives;
 mod procedural;
+mod quantization;
+mod skin;
 mod source;
+mod unsupported;
 
 pub use error::LoadError;
 pub use materials::uv_transform;
@@ -59,8 +66,22 @@ pub use primitives::{assemble_triangles, normal_transform};
 pub use source::SUPPORTED_EXTENSIONS;
 
 use super::{Material, Scene};
+use glam::Mat4;
 use source::Origin;
 use std::path::Path;
+
+/// Which scene of the file to load, and at what animation time.
+///
+/// The default is what `load` does: the file's default scene (else scene 0) in its rest
+/// pose, animations not applied.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SceneSelection {
+    /// The index of the scene to render (`--scene N`); `None`: the file's default scene.
+    pub scene: Option<usize>,
+    /// The time in seconds at which every animation is sampled (`--time SECONDS`); `None`:
+    /// the rest pose (the file's node transforms and default morph weights).
+    pub time: Option<f32>,
+}
 
 /// A loaded scene and the warnings the loader gave (skipped primitives, ignored extensions).
 #[derive(Debug)]
@@ -86,6 +107,11 @@ pub fn load_slice(bytes: &[u8], label: &str, base_dir: Option<&Path>) -> Result<
 
 /// Like [`load`], returning the warnings instead of printing them.
 pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
+    load_selected(path, &SceneSelection::default())
+}
+
+/// Like [`load_with_warnings`], for the scene and animation time `selection` names.
+pub fn load_selected(path: &Path, selection: &SceneSelection) -> Result<Loaded, LoadError> {
     let bytes = std::fs::read(path).map_err(|source| LoadError::Read {
         path: path.to_path_buf(),
         source,
@@ -97,6 +123,7 @@ pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
             file: path,
             base_dir: Some(base_dir),
         },
+        selection,
     )
 }
 
@@ -112,6 +139,7 @@ pub fn load_slice_with_warnings(
             file: Path::new(label),
             base_dir,
         },
+        &SceneSelection::default(),
     )
 }
 
@@ -122,7 +150,11 @@ fn print_warnings(loaded: Loaded) -> Scene {
     loaded.scene
 }
 
-fn load_bytes(bytes: &[u8], origin: Origin<'_>) -> Result<Loaded, LoadError> {
+fn load_bytes(
+    bytes: &[u8],
+    origin: Origin<'_>,
+    selection: &SceneSelection,
+) -> Result<Loaded, LoadError> {
     let mut warnings = Vec::new();
     let source = source::parse(bytes, origin, &mut warnings)?;
     let document = &source.document;
@@ -134,35 +166,101 @@ fn load_bytes(bytes: &[u8], origin: Origin<'_>) -> Result<Loaded, LoadError> {
     let default_material = materials.len();
     let mut uses_default = false;
 
-    let placed = nodes::flatten(document, origin, &mut warnings)?;
+    let pose = match selection.time {
+        Some(time) if time.is_finite() => {
+            animation::sample(document, &source.buffers, time, origin)?
+        }
+        Some(time) => {
+            return Err(LoadError::Invalid {
+                path: origin.file.to_path_buf(),
+                message: format!("animation time {time} is not a finite number of seconds"),
+            });
+        }
+        None => {
+            let count = document.animations().len();
+            if count > 0 {
+                warnings.push(format!(
+                    "{}: {count} animation(s) not applied (rest pose); pass --time SECONDS to sample them",
+                    origin.file.display()
+                ));
+            }
+            animation::Pose::rest()
+        }
+    };
+    let quantized = quantization::enabled(document);
+    let placed = nodes::flatten(document, selection.scene, &pose, origin, &mut warnings)?;
+    // Joint transforms need every node's world matrix, not only the scene's.
+    let all_world = if document.skins().len() > 0 {
+        skin::world_matrices(document, &pose, origin)?
+    } else {
+        Vec::new()
+    };
     let mut scene = Scene {
         textures,
         ..Scene::default()
     };
     for node in &placed {
         if let Some(mesh) = node.node.mesh() {
-            for primitive in mesh.primitives() {
-                let material = match primitive.material().index() {
-                    Some(index) => index,
-                    None => {
-                        uses_default = true;
-                        default_material
-                    }
-                };
-                let ctx = primitives::PrimitiveContext {
+            let weights = pose
+                .node(node.node.index())
+                .and_then(|p| p.weights.clone())
+                .unwrap_or_else(|| morph::default_weights(&node.node));
+            let joints = match node.node.skin() {
+                Some(skin) => Some(skin::joint_matrices(
+                    &node.node,
+                    &skin,
+                    &all_world,
+                    &source.buffers,
                     origin,
-                    buffers: &source.buffers,
-                    label: format!(
-                        "{} / mesh {} / primitive {}",
-                        nodes::node_label(&node.node),
-                        mesh.index(),
-                        primitive.index()
-                    ),
-                    world_from_object: node.world_from_node,
-                    material,
-                };
-                if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
-                    scene.meshes.push(built);
+                )?),
+                None => None,
+            };
+            // Instancing is flattened (one copy per instance); a skinned mesh is placed by
+            // its joints, so instancing it would be meaningless.
+            let instances = match (
+                &joints,
+                instancing::transforms(&node.node, document, &source.buffers, origin)?,
+            ) {
+                (None, Some(instances)) => instances,
+                _ => vec![Mat4::IDENTITY],
+            };
+            let instanced = instances.len() > 1
+                || node
+                    .node
+                    .extension_value("EXT_mesh_gpu_instancing")
+                    .is_some();
+            for (instance, local) in instances.iter().enumerate() {
+                for primitive in mesh.primitives() {
+                    let material = match primitive.material().index() {
+                        Some(index) => index,
+                        None => {
+                            uses_default = true;
+                            default_material
+                        }
+                    };
+                    let instance_label = if instanced {
+                        format!(" / instance {instance}")
+                    } else {
+                        String::new()
+                    };
+                    let ctx = primitives::PrimitiveContext {
+                        origin,
+                        buffers: &source.buffers,
+                        label: format!(
+                            "{} / mesh {} / primitive {}{instance_label}",
+                            nodes::node_label(&node.node),
+                            mesh.index(),
+                            primitive.index()
+                        ),
+                        world_from_object: node.world_from_node * *local,
+                        material,
+                        quantized,
+                        morph_weights: &weights,
+                        skin: joints.as_deref(),
+                    };
+                    if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                        scene.meshes.push(built);
+                    }
                 }
             }
         }
