@@ -54,6 +54,13 @@ pub struct RenderArgs {
     /// Ray-query backend: embree or bvh.
     #[arg(long, default_value_t = BackendKind::default())]
     pub backend: BackendKind,
+    /// Which of the file's scenes to render (glTF `scenes` index, from 0) [default: the
+    /// file's default scene].
+    #[arg(long = "scene", alias = "scene-index", value_name = "N")]
+    pub scene_index: Option<usize>,
+    /// Sample every animation at this time in seconds [default: none; the rest pose].
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub time: Option<f32>,
     /// Which of the scene's cameras to use (index, from 0) [default: the first, or a default
     /// camera framing the scene if it has none].
     #[arg(long)]
@@ -161,7 +168,11 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         }
     };
 
-    let (scene, label) = load_scene(args.scene.as_deref())?;
+    let selection = scene::gltf::SceneSelection {
+        scene: args.scene_index,
+        time: args.time,
+    };
+    let (scene, label) = load_scene_selected(args.scene.as_deref(), &selection)?;
     // Checked before the (possibly long) build of the ray-query structure.
     choose_camera(&scene, args.camera, &|_| {})?;
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())
@@ -196,8 +207,22 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
 /// Loads `path`, or the embedded demo scene without one, with the label that names it in
 /// messages.
 pub fn load_scene(path: Option<&std::path::Path>) -> Result<(Scene, String), CliError> {
+    load_scene_selected(path, &scene::gltf::SceneSelection::default())
+}
+
+/// Like [`load_scene`], for the scene and animation time `selection` names (`--scene`,
+/// `--time`); the demo scene has one scene and no animation, so it ignores them.
+pub fn load_scene_selected(
+    path: Option<&std::path::Path>,
+    selection: &scene::gltf::SceneSelection,
+) -> Result<(Scene, String), CliError> {
     let scene = match path {
-        Some(path) => scene::gltf::load(path),
+        Some(path) => scene::gltf::load_selected(path, selection).map(|loaded| {
+            for warning in &loaded.warnings {
+                eprintln!("glint: warning: {warning}");
+            }
+            loaded.scene
+        }),
         None => scene::demo::demo_scene(),
     }
     .map_err(CliError::from_display)?;
