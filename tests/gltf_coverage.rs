@@ -571,3 +571,100 @@ fn animations_without_a_time_are_one_warning() {
     );
     assert_ne!(bounds(&rest.meshes), bounds(&moved.meshes));
 }
+
+// ---------------------------------------------------------------------------------------
+// Texture formats.
+
+/// A one-triangle document whose material's base colour texture is `texture` over `images`.
+fn textured_triangle(
+    fixture: &mut Fixture,
+    texture: serde_json::Value,
+    images: serde_json::Value,
+) -> serde_json::Value {
+    let position = fixture.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let uv = fixture.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2", 2);
+    json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": position, "TEXCOORD_0": uv}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [texture],
+        "images": images,
+        "extensionsUsed": ["EXT_texture_webp"],
+        "extensionsRequired": ["EXT_texture_webp"]
+    })
+}
+
+#[test]
+fn ext_texture_webp_images_decode_in_place_of_the_fallback() {
+    use image::ImageEncoder;
+    // 2×1 texels, lossless: red and (encoded) mid grey.
+    let rgba = [255u8, 0, 0, 255, 128, 128, 128, 255];
+    let mut webp = Vec::new();
+    image::codecs::webp::WebPEncoder::new_lossless(&mut webp)
+        .write_image(&rgba, 2, 1, image::ExtendedColorType::Rgba8)
+        .expect("encode WebP");
+    // A black PNG fallback that must not be used.
+    let fallback = gltf_fixture::png(1, 1, &[0, 0, 0, 255]);
+    let images = json!([
+        {"uri": gltf_fixture::data_uri("image/png", &fallback)},
+        {"uri": gltf_fixture::data_uri("image/webp", &webp)}
+    ]);
+    for texture in [
+        json!({"source": 0, "extensions": {"EXT_texture_webp": {"source": 1}}}),
+        json!({"extensions": {"EXT_texture_webp": {"source": 1}}}),
+    ] {
+        let mut fixture = Fixture::new();
+        let rest = textured_triangle(&mut fixture, texture, images.clone());
+        let loaded = fixture.load(rest).unwrap_or_else(|e| panic!("{e}"));
+        let texture = &loaded.scene.textures[0];
+        assert_eq!((texture.width, texture.height), (2, 1));
+        assert_eq!(texture.texels[0], Vec4::new(1.0, 0.0, 0.0, 1.0));
+        // sRGB 128/255 → linear 0.2158605.
+        assert!(
+            (texture.texels[1].x - 0.215_860_5).abs() < 1e-5,
+            "{}",
+            texture.texels[1]
+        );
+    }
+}
+
+#[test]
+fn sixteen_bit_pngs_keep_sixteen_bits() {
+    // Two texels one 16-bit step apart (values an 8-bit decode would merge).
+    let (a, b) = (30000u16, 30001u16);
+    let image = image::ImageBuffer::<image::Rgba<u16>, _>::from_fn(2, 1, |x, _| {
+        let v = if x == 0 { a } else { b };
+        image::Rgba([v, v, v, u16::MAX])
+    });
+    let mut png = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .expect("encode 16-bit PNG");
+    let mut fixture = Fixture::new();
+    let mut rest = textured_triangle(
+        &mut fixture,
+        json!({"source": 0}),
+        json!([{"uri": gltf_fixture::data_uri("image/png", &png)}]),
+    );
+    rest.as_object_mut().unwrap().remove("extensionsUsed");
+    rest.as_object_mut().unwrap().remove("extensionsRequired");
+    let loaded = fixture.load(rest).unwrap_or_else(|e| panic!("{e}"));
+    let texels = &loaded.scene.textures[0].texels;
+    let linear = |v: u16| {
+        let e = f64::from(v) / 65535.0;
+        (((e + 0.055) / 1.055).powf(2.4)) as f32
+    };
+    for (texel, v) in texels.iter().zip([a, b]) {
+        assert!(
+            (texel.x - linear(v)).abs() < 2e-7,
+            "{} vs {}",
+            texel.x,
+            linear(v)
+        );
+    }
+    assert!(
+        texels[1].x > texels[0].x,
+        "one 16-bit step apart must stay apart"
+    );
+}

@@ -59,6 +59,7 @@ mod quantization;
 mod skin;
 mod source;
 mod unsupported;
+mod webp;
 
 pub use error::LoadError;
 pub use materials::uv_transform;

@@ -80,6 +80,7 @@ pub fn parse(
         })?;
     let mut root = document.into_json();
     check_extensions(&root, origin, warnings)?;
+    super::webp::use_webp_sources(&mut root);
     // glint decodes these itself; the `gltf` crate's validator would refuse them as
     // required extensions it does not know.
     root.extensions_required
