@@ -167,7 +167,7 @@ pub fn sample(
                 Property::Scale => node.scale = Some(Vec3::from_slice(&sampled)),
                 Property::Rotation => {
                     let q = Quat::from_slice(&sampled);
-                    if !(q.length_squared() > 0.0) {
+                    if q.length_squared().is_nan() || q.length_squared() <= 0.0 {
                         return Err(fail(format!(
                             "output accessor {} gives a zero or NaN rotation at t = {time}",
                             output.index()

@@ -94,7 +94,7 @@ pub fn transforms(
         let r = match &rotations {
             Some(v) => {
                 let q = Quat::from_array(v[i]);
-                if !(q.length_squared() > 0.0) {
+                if q.length_squared().is_nan() || q.length_squared() <= 0.0 {
                     return Err(fail(format!("instance {i} has a zero or NaN rotation")));
                 }
                 q.normalize()

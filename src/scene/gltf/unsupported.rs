@@ -15,8 +15,8 @@ fn advice(extension: &str) -> Option<&'static str> {
              (meshopt compression, which glint reads)"
         }
         "KHR_texture_basisu" => {
-            "KTX2 / Basis Universal textures: convert them to PNG or JPEG, e.g. `gltf-transform png IN.glb OUT.glb` \
-             or re-export with PNG textures"
+            "KTX2 / Basis Universal textures, which glint does not transcode: re-export the scene with PNG or \
+             JPEG textures (a .ktx2 file converts to PNG with KTX-Software's `ktx extract`)"
         }
         "KHR_materials_pbrSpecularGlossiness" => {
             "the specular-glossiness workflow: convert it to metallic-roughness, e.g. `gltf-transform metalrough IN.glb OUT.glb`"
