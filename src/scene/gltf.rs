@@ -3,7 +3,8 @@
 //! # Supported
 //! - `.gltf` with external files or base64 data URIs, and `.glb` (binary chunk); URIs are
 //!   relative paths (percent-escapes decoded) or data URIs.
-//! - The default scene (else scene 0; a file without scenes renders its root nodes). The node
+//! - The default scene, or the one [`SceneSelection::scene`] names (else scene 0; a file
+//!   without scenes renders its root nodes). The node
 //!   hierarchy is flattened: matrix or translation · rotation · scale composed down the tree;
 //!   one [`Mesh`](super::Mesh) per (node, primitive), named `node "X" / mesh 3 / primitive 0`.
 //!   Positions go through the world matrix, normals through its inverse transpose
@@ -14,12 +15,16 @@
 //!   the glTF spec defines them), indexed or not.
 //! - Attributes POSITION, NORMAL, TANGENT, TEXCOORD_0, TEXCOORD_1 (float or normalized
 //!   integers), COLOR_0 (RGB or RGBA, float or normalized integers; linear). Sparse
-//!   accessors.
+//!   accessors. KHR_mesh_quantization's integer layouts (`quantization`), and
+//!   EXT_meshopt_compression's compressed buffer views, decoded at load (`meshopt`).
+//! - Morph targets with the node's or mesh's default weights (`morph`); skins posed by their
+//!   joints (`skin`); animations sampled at [`SceneSelection::time`] ([`animation`]).
+//! - EXT_mesh_gpu_instancing, flattened into one mesh per instance (`instancing`).
 //! - Materials: baseColorFactor and baseColorTexture, metallicFactor, roughnessFactor,
 //!   emissiveFactor × KHR_materials_emissive_strength, emissiveTexture, doubleSided, name;
 //!   KHR_texture_transform on either texture (with its texCoord override). A primitive
 //!   without a material gets glTF's default (white, metallic 1, roughness 1, single-sided).
-//! - Textures: PNG and JPEG from files, data URIs or buffer views; base colour and emissive
+//! - Textures: PNG, JPEG and (EXT_texture_webp) WebP from files, data URIs or buffer views; base colour and emissive
 //!   decoded from sRGB to linear with the exact sRGB curve; sampler wrap modes and the
 //!   magnification filter.
 //! - Cameras (perspective and orthographic) of every camera node, in node order, with the
@@ -28,12 +33,12 @@
 //!   [`Light`](super::Light)): glTF's `intensity × color` is carried as is, no 683 lm/W.
 //!
 //! # Ignored
-//! - Skins, morph targets and animations (meshes load in their bind / rest pose).
+//! - Animations when no time is given (one warning; the rest pose renders).
 //! - metallicRoughnessTexture, normalTexture, occlusionTexture, alphaMode / alphaCutoff,
 //!   texture minification filters, the camera's znear / zfar.
 //! - KHR_materials_* extensions other than emissive_strength, and every other extension:
-//!   a file that lists one as *required* is refused; one that merely uses it loads with a
-//!   warning.
+//!   a file that lists some as *required* is refused naming all of them (with advice for
+//!   Draco and KTX2); one that merely uses them loads with a warning.
 //! - POINTS, LINES, LINE_LOOP and LINE_STRIP primitives: skipped with a warning (one line
 //!   primitive should not make a whole scene unloadable).
 //! - TEXCOORD_2 and above, COLOR_1 and above.
