@@ -336,6 +336,42 @@ mod tests {
     }
 
     #[test]
+    fn octahedral_and_quaternion_filters_invert_their_encoders() {
+        let normals = [
+            [0.0f32, 0.0, 1.0, 0.0],
+            [0.6, -0.8, 0.0, 0.0],
+            [-0.48, 0.6, -0.64, 0.0],
+        ];
+        let encoded = meshopt::encoding::encode_filter_oct::<i16>(&normals, 16);
+        let mut bytes: Vec<u8> = encoded
+            .iter()
+            .flatten()
+            .flat_map(|c| c.to_le_bytes())
+            .collect();
+        apply_filter(&mut bytes, &compressed("ATTRIBUTES", "OCTAHEDRAL", 8, 3)).unwrap();
+        for (n, chunk) in normals.iter().zip(bytes.chunks_exact(8)) {
+            let c = |i: usize| {
+                f32::from(i16::from_le_bytes([chunk[2 * i], chunk[2 * i + 1]])) / 32767.0
+            };
+            for i in 0..3 {
+                assert!((c(i) - n[i]).abs() < 1e-3, "{n:?}");
+            }
+        }
+        let q = glam::Quat::from_rotation_y(0.7) * glam::Quat::from_rotation_x(-0.3);
+        let encoded = meshopt::encoding::encode_filter_quat(&[q.to_array()], 16);
+        let mut bytes: Vec<u8> = encoded
+            .iter()
+            .flatten()
+            .flat_map(|c| c.to_le_bytes())
+            .collect();
+        apply_filter(&mut bytes, &compressed("ATTRIBUTES", "QUATERNION", 8, 1)).unwrap();
+        let c =
+            |i: usize| f32::from(i16::from_le_bytes([bytes[2 * i], bytes[2 * i + 1]])) / 32767.0;
+        let back = glam::Quat::from_xyzw(c(0), c(1), c(2), c(3));
+        assert!(back.dot(q).abs() > 0.9999, "{back} vs {q}");
+    }
+
+    #[test]
     fn bad_strides_and_modes_are_errors() {
         assert!(decode(&[0; 16], &compressed("ATTRIBUTES", "NONE", 6, 1)).is_err());
         assert!(decode(&[0; 16], &compressed("TRIANGLES", "NONE", 3, 3)).is_err());
