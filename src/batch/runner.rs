@@ -77,7 +77,12 @@ pub fn run(
         let load_start = Instant::now();
         let first = group[0];
         let prepared = pool.install(|| {
-            let scene = scene::gltf::load(first.scene()).map_err(|e| e.to_string())?;
+            let selection = scene::gltf::SceneSelection {
+                scene: first.args.scene_index,
+                time: first.args.time,
+            };
+            let scene =
+                scene::gltf::load_with(first.scene(), &selection).map_err(|e| e.to_string())?;
             let accel = render::prepare(&scene, first.args.backend, BuildOptions::default())
                 .map_err(|e| format!("{}: {e}", first.scene().display()))?;
             Ok::<_, String>((scene, accel))
@@ -146,11 +151,18 @@ pub fn run(
 
 /// Jobs grouped by (canonical scene, backend), groups in order of first appearance.
 fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
-    let mut keys: Vec<(PathBuf, BackendKind)> = Vec::new();
+    // Jobs share a load only if they load the same scene at the same animation time.
+    type Key = (PathBuf, BackendKind, Option<usize>, Option<u32>);
+    let mut keys: Vec<Key> = Vec::new();
     let mut groups: Vec<Vec<&Job>> = Vec::new();
     for &job in jobs {
         let path = std::fs::canonicalize(job.scene()).unwrap_or_else(|_| job.scene().into());
-        let key = (path, job.args.backend);
+        let key = (
+            path,
+            job.args.backend,
+            job.args.scene_index,
+            job.args.time.map(f32::to_bits),
+        );
         match keys.iter().position(|k| *k == key) {
             Some(i) => groups[i].push(job),
             None => {

@@ -56,7 +56,7 @@ pub struct RenderArgs {
     pub backend: BackendKind,
     /// Which of the file's scenes to render (glTF `scenes` index, from 0) [default: the
     /// file's default scene].
-    #[arg(long = "scene", alias = "scene-index", value_name = "N")]
+    #[arg(long = "scene", value_name = "N")]
     pub scene_index: Option<usize>,
     /// Sample every animation at this time in seconds [default: none; the rest pose].
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
@@ -217,12 +217,7 @@ pub fn load_scene_selected(
     selection: &scene::gltf::SceneSelection,
 ) -> Result<(Scene, String), CliError> {
     let scene = match path {
-        Some(path) => scene::gltf::load_selected(path, selection).map(|loaded| {
-            for warning in &loaded.warnings {
-                eprintln!("glint: warning: {warning}");
-            }
-            loaded.scene
-        }),
+        Some(path) => scene::gltf::load_with(path, selection),
         None => scene::demo::demo_scene(),
     }
     .map_err(CliError::from_display)?;

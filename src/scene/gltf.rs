@@ -104,6 +104,11 @@ pub fn load(path: &Path) -> Result<Scene, LoadError> {
     load_with_warnings(path).map(print_warnings)
 }
 
+/// Like [`load`], for the scene and animation time `selection` names; warnings go to stderr.
+pub fn load_with(path: &Path, selection: &SceneSelection) -> Result<Scene, LoadError> {
+    load_selected(path, selection).map(print_warnings)
+}
+
 /// Loads a glTF or GLB held in memory (the embedded demo scene); `label` names it in errors and
 /// `base_dir` resolves relative URIs (None: only embedded data is allowed).
 /// Warnings go to stderr; use [`load_slice_with_warnings`] to handle them yourself.
