@@ -750,3 +750,29 @@ fn compressed_ducks_render_like_the_uncompressed_duck() {
         );
     }
 }
+
+#[test]
+fn instancing_that_would_flatten_past_the_limit_is_refused_before_copying() {
+    let mut fixture = Fixture::new();
+    let position = fixture.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    // No buffer view: glTF defines the data as zeros (plus one sparse value), so a huge count
+    // costs the file nothing.
+    let sparse_index = fixture.view(&0u32.to_le_bytes());
+    let sparse_value = fixture.view(&[0u8; 12]);
+    let translation = fixture.accessor(json!({
+        "componentType": 5126, "count": 100_000_000, "type": "VEC3",
+        "sparse": {"count": 1, "indices": {"bufferView": sparse_index, "componentType": 5125},
+                   "values": {"bufferView": sparse_value}}
+    }));
+    let rest = json!({
+        "extensionsUsed": ["EXT_mesh_gpu_instancing"],
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "extensions": {"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": translation}}}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": position}}]}]
+    });
+    let message = fixture.load(rest).unwrap_err().to_string();
+    assert!(
+        message.contains("100000000 instances") && message.contains("EXT_mesh_gpu_instancing"),
+        "{message}"
+    );
+}

@@ -233,7 +233,15 @@ fn load_bytes(
                 instancing::transforms(&node.node, document, &source.buffers, origin)?,
             ) {
                 (None, Some(instances)) => instances,
-                _ => vec![Mat4::IDENTITY],
+                (Some(_), Some(_)) => {
+                    warnings.push(format!(
+                        "{}: {}: EXT_mesh_gpu_instancing on a skinned node is ignored (the joints place the mesh)",
+                        origin.file.display(),
+                        nodes::node_label(&node.node)
+                    ));
+                    vec![Mat4::IDENTITY]
+                }
+                (_, None) => vec![Mat4::IDENTITY],
             };
             let instanced = instances.len() > 1
                 || node

@@ -15,6 +15,39 @@ use glam::{Mat4, Quat, Vec3};
 
 const EXTENSION: &str = "EXT_mesh_gpu_instancing";
 
+/// The most vertices one instanced node may flatten into (2²⁸: about 10 GiB of positions,
+/// normals and texture coordinates). Flattening multiplies the mesh by the instance count,
+/// so a small file could otherwise ask for more memory than any machine has.
+const MAX_FLATTENED_VERTICES: u64 = 1 << 28;
+
+/// Refuses, before anything is copied, an instanced node whose flattened copies would
+/// exceed [`MAX_FLATTENED_VERTICES`].
+fn check_flattened_size(
+    node: &::gltf::Node<'_>,
+    mesh: &::gltf::Mesh<'_>,
+    instances: usize,
+    origin: Origin<'_>,
+) -> Result<(), LoadError> {
+    let per_copy: u64 = mesh
+        .primitives()
+        .filter_map(|p| p.get(&::gltf::Semantic::Positions))
+        .map(|a| a.count() as u64)
+        .sum();
+    let total = per_copy.saturating_mul(instances as u64);
+    if total > MAX_FLATTENED_VERTICES {
+        return Err(LoadError::Node {
+            path: origin.file.to_path_buf(),
+            what: format!("{} / {EXTENSION}", node_label(node)),
+            problem: format!(
+                "{instances} instances × {per_copy} vertices would flatten to {total} vertices, more than \
+                 glint's limit of {MAX_FLATTENED_VERTICES}: glint copies each instance for now (reduce the \
+                 instance count or the mesh)"
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// The node-local transforms of the node's instances, or `None` if it is not instanced.
 pub fn transforms(
     node: &::gltf::Node<'_>,
@@ -78,6 +111,9 @@ pub fn transforms(
             "has none of TRANSLATION, ROTATION, SCALE (re-export the scene)".into(),
         ));
     };
+    if let Some(mesh) = node.mesh() {
+        check_flattened_size(node, &mesh, count, origin)?;
+    }
     let read3 =
         |a: &Option<::gltf::Accessor<'_>>| a.as_ref().map(|a| quantization::read::<3>(a, buffers));
     let translations = read3(&translation);
