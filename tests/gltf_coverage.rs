@@ -776,3 +776,54 @@ fn instancing_that_would_flatten_past_the_limit_is_refused_before_copying() {
         "{message}"
     );
 }
+
+#[test]
+fn every_coverage_model_loads_and_renders_at_rest_and_animated() {
+    use glint::accel::{BackendKind, BuildOptions};
+    use glint::render::{self, PixelSampling, RenderSettings};
+    let models = [
+        "SimpleInstancing/glTF-Binary/SimpleInstancing.glb",
+        "SimpleMorph/glTF/SimpleMorph.gltf",
+        "SimpleSkin/glTF/SimpleSkin.gltf",
+        "CesiumMan/glTF-Binary/CesiumMan.glb",
+        "BoxAnimated/glTF-Binary/BoxAnimated.glb",
+        "InterpolationTest/glTF-Binary/InterpolationTest.glb",
+        "MultipleScenes/glTF/MultipleScenes.gltf",
+        "Duck/glTF-Quantized/Duck.gltf",
+        "Duck/glTF-quantized-gltfpack/Duck.glb",
+        "Duck/glTF-meshopt/Duck.glb",
+    ];
+    let settings = RenderSettings {
+        width: 48,
+        height: 32,
+        spp: 1,
+        sampling: PixelSampling::PixelCenter,
+        ..RenderSettings::default()
+    };
+    for model in models {
+        for time in [None, Some(0.8)] {
+            let (mut scene, _) = load_at(model, SceneSelection { scene: None, time });
+            assert!(triangles(&scene) > 0, "{model}");
+            // A file camera may look away from a posed mesh; the default camera frames it.
+            let camera = glint::scene::defaults::default_camera(&scene);
+            scene.lights = glint::scene::defaults::default_lights(&scene, &camera);
+            let accel = render::prepare(&scene, BackendKind::Bvh, BuildOptions::default())
+                .unwrap_or_else(|e| panic!("{model}: {e}"));
+            let pixels = render::render(&scene, accel.as_ref(), &camera, &settings, None)
+                .unwrap_or_else(|e| panic!("{model}: {e}"))
+                .image
+                .pixels;
+            assert!(
+                pixels
+                    .iter()
+                    .all(|p| p.is_finite() && p.min_element() >= 0.0),
+                "{model}"
+            );
+            let lit = pixels.iter().filter(|p| p.max_element() > 0.0).count();
+            assert!(
+                lit > pixels.len() / 50,
+                "{model} at {time:?}: {lit} lit pixels"
+            );
+        }
+    }
+}
