@@ -18,7 +18,7 @@
 //!   accessors. KHR_mesh_quantization's integer layouts (`quantization`), and
 //!   EXT_meshopt_compression's compressed buffer views, decoded at load (`meshopt`).
 //! - Morph targets with the node's or mesh's default weights (`morph`); skins posed by their
-//!   joints (`skin`); animations sampled at [`SceneSelection::time`] ([`animation`]).
+//!   joints (`skin`); animations sampled at [`SceneSelection::time`] (`animation`).
 //! - EXT_mesh_gpu_instancing, flattened into one mesh per instance (`instancing`).
 //! - Materials: baseColorFactor and baseColorTexture, metallicFactor, roughnessFactor,
 //!   emissiveFactor × KHR_materials_emissive_strength, emissiveTexture, doubleSided, name;
@@ -50,7 +50,7 @@
 //! unsupported required extension, an image that does not decode.
 
 mod accessors;
-pub mod animation;
+mod animation;
 mod error;
 mod instancing;
 mod materials;

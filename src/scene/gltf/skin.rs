@@ -19,7 +19,7 @@ use super::nodes::{self, node_label};
 use super::primitives::normal_transform;
 use super::quantization;
 use super::source::Origin;
-use crate::scene::gltf::animation::Pose;
+use super::animation::Pose;
 use ::gltf::accessor::{DataType, Dimensions};
 use glam::{Mat3, Mat4, Vec3};
 
