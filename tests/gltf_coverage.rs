@@ -830,3 +830,27 @@ fn every_coverage_model_loads_and_renders_at_rest_and_animated() {
         }
     }
 }
+
+#[test]
+fn batch_jobs_carry_time_and_scene_index() {
+    let text = r#"
+        [[job]]
+        scene = "a.glb"
+        output = "a.png"
+        scene_index = 1
+        time = 0.25
+
+        [[sweep]]
+        scene = "b.glb"
+        output = "b-{time}.png"
+        time = [0.0, 0.5]
+    "#;
+    let jobs = glint::batch::jobs::parse(text, std::path::Path::new("/tmp/jobs.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(jobs.len(), 3);
+    assert_eq!(jobs[0].args.scene_index, Some(1));
+    assert_eq!(jobs[0].args.time, Some(0.25));
+    assert_eq!(jobs[1].args.scene_index, None);
+    let times: Vec<_> = jobs[1..].iter().map(|j| j.args.time).collect();
+    assert_eq!(times, vec![Some(0.0), Some(0.5)]);
+}

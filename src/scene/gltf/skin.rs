@@ -15,11 +15,11 @@
 
 use super::LoadError;
 use super::accessors::{self, Layout};
+use super::animation::Pose;
 use super::nodes::{self, node_label};
 use super::primitives::normal_transform;
 use super::quantization;
 use super::source::Origin;
-use super::animation::Pose;
 use ::gltf::accessor::{DataType, Dimensions};
 use glam::{Mat3, Mat4, Vec3};
 
