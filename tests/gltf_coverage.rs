@@ -76,6 +76,7 @@ fn duck_variants_have_the_uncompressed_geometry_within_the_quantization_step() {
     for variant in [
         "Duck/glTF-Quantized/Duck.gltf",
         "Duck/glTF-quantized-gltfpack/Duck.glb",
+        #[cfg(feature = "meshopt")]
         "Duck/glTF-meshopt/Duck.glb",
     ] {
         let scene = load(variant);
@@ -739,6 +740,7 @@ fn compressed_ducks_render_like_the_uncompressed_duck() {
     for variant in [
         "Duck/glTF-Quantized/Duck.gltf",
         "Duck/glTF-quantized-gltfpack/Duck.glb",
+        #[cfg(feature = "meshopt")]
         "Duck/glTF-meshopt/Duck.glb",
     ] {
         let image = render(load(variant));
@@ -794,6 +796,7 @@ fn every_coverage_model_loads_and_renders_at_rest_and_animated() {
         "MultipleScenes/glTF/MultipleScenes.gltf",
         "Duck/glTF-Quantized/Duck.gltf",
         "Duck/glTF-quantized-gltfpack/Duck.glb",
+        #[cfg(feature = "meshopt")]
         "Duck/glTF-meshopt/Duck.glb",
     ];
     let settings = RenderSettings {
@@ -853,4 +856,17 @@ fn batch_jobs_carry_time_and_scene_index() {
     assert_eq!(jobs[1].args.scene_index, None);
     let times: Vec<_> = jobs[1..].iter().map(|j| j.args.time).collect();
     assert_eq!(times, vec![Some(0.0), Some(0.5)]);
+}
+
+#[cfg(not(feature = "meshopt"))]
+#[test]
+fn without_the_meshopt_feature_meshopt_files_are_refused_with_advice() {
+    let path = khronos("Duck/glTF-meshopt/Duck.glb");
+    let message = load_selected(&path, &SceneSelection::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("EXT_meshopt_compression") && message.contains("`meshopt` feature"),
+        "{message}"
+    );
 }

@@ -54,6 +54,10 @@ mod animation;
 mod error;
 mod instancing;
 mod materials;
+#[cfg(feature = "meshopt")]
+mod meshopt;
+#[cfg(not(feature = "meshopt"))]
+#[path = "gltf/meshopt_off.rs"]
 mod meshopt;
 mod morph;
 mod nodes;

@@ -15,6 +15,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
+    #[cfg(feature = "meshopt")]
     "EXT_meshopt_compression",
     "EXT_mesh_gpu_instancing",
     "EXT_texture_webp",

@@ -18,6 +18,10 @@ fn advice(extension: &str) -> Option<&'static str> {
             "KTX2 / Basis Universal textures, which glint does not transcode: re-export the scene with PNG or \
              JPEG textures (a .ktx2 file converts to PNG with KTX-Software's `ktx extract`)"
         }
+        "EXT_meshopt_compression" => {
+            "meshopt-compressed geometry: rebuild glint with its `meshopt` feature (on by default; it needs \
+             a C++ compiler), or decompress with `gltfpack -i IN.glb -o OUT.glb` (no `-c`)"
+        }
         "KHR_materials_pbrSpecularGlossiness" => {
             "the specular-glossiness workflow: convert it to metallic-roughness, e.g. `gltf-transform metalrough IN.glb OUT.glb`"
         }
