@@ -289,6 +289,7 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
             emissive_strength: Some(json::extensions::material::EmissiveStrength {
                 emissive_strength: json::extensions::material::EmissiveStrengthFactor(4.0),
             }),
+            ..Default::default()
         });
     }
 
@@ -440,6 +441,7 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
     ];
     b.root.extensions = Some(json::extensions::root::Root {
         khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual { lights }),
+        ..Default::default()
     });
     let light_node = |b: &mut Builder, name: &str, index: u32, position: Vec3, towards: Vec3| {
         b.node(json::Node {
@@ -454,6 +456,7 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
                         light: json::Index::new(index),
                     },
                 ),
+                ..Default::default()
             }),
             ..Default::default()
         })

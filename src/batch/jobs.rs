@@ -325,7 +325,11 @@ impl Context<'_> {
 
 /// The command-line arguments that `key = value` stands for.
 fn option_args(key: &str, value: &Value) -> Result<Vec<String>, String> {
-    let name = key.replace('_', "-");
+    // `scene` is the job's file; the scene index (`--scene N`) is the key `scene_index`.
+    let name = match key {
+        "scene_index" => "scene".to_string(),
+        k => k.replace('_', "-"),
+    };
     let command = JobCli::command();
     let Some(arg) = command
         .get_arguments()
@@ -334,7 +338,10 @@ fn option_args(key: &str, value: &Value) -> Result<Vec<String>, String> {
         let mut known: Vec<String> = command
             .get_arguments()
             .filter_map(|a| a.get_long())
-            .map(|l| l.replace('-', "_"))
+            .map(|l| match l {
+                "scene" => "scene_index".to_string(),
+                l => l.replace('-', "_"),
+            })
             .filter(|l| !BATCH_ONLY.contains(&l.as_str()))
             .collect();
         known.extend(["scene".into(), "camera".into()]);

@@ -77,6 +77,10 @@ pub fn run(
         let prepared = pool.install(|| {
             PreparedScene::load(
                 &SceneSource::File(first.scene().to_path_buf()),
+                &crate::scene::gltf::SceneSelection {
+                    scene: first.args.scene_index,
+                    time: first.args.time,
+                },
                 first.args.backend,
             )
             .map_err(|e| e.to_string())
@@ -137,13 +141,20 @@ pub fn run(
     })
 }
 
-/// Jobs grouped by (canonical scene, backend), groups in order of first appearance.
+/// Jobs grouped by (canonical scene, backend, scene index, animation time), groups in order
+/// of first appearance: jobs share a load only if they load the same scene at the same time.
 fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
-    let mut keys: Vec<(PathBuf, BackendKind)> = Vec::new();
+    type Key = (PathBuf, BackendKind, Option<usize>, Option<u32>);
+    let mut keys: Vec<Key> = Vec::new();
     let mut groups: Vec<Vec<&Job>> = Vec::new();
     for &job in jobs {
         let path = std::fs::canonicalize(job.scene()).unwrap_or_else(|_| job.scene().into());
-        let key = (path, job.args.backend);
+        let key = (
+            path,
+            job.args.backend,
+            job.args.scene_index,
+            job.args.time.map(f32::to_bits),
+        );
         match keys.iter().position(|k| *k == key) {
             Some(i) => groups[i].push(job),
             None => {

@@ -43,7 +43,11 @@ impl Frame {
         if t == Vec3::ZERO || !t.is_finite() {
             return Self::from_normal(n);
         }
-        Self { t, b: n.cross(t), n }
+        Self {
+            t,
+            b: n.cross(t),
+            n,
+        }
     }
 
     /// World → local.

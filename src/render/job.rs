@@ -21,7 +21,7 @@ use crate::light::area::AreaLights;
 use crate::light::environment::{EnvironmentError, EnvironmentLight};
 use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr, write_png};
 use crate::scene::defaults::{self, NoSuchCamera};
-use crate::scene::gltf::LoadError;
+use crate::scene::gltf::{LoadError, SceneSelection};
 use crate::scene::light_spec::{self, LightSpecError};
 use crate::scene::{Camera, Light, Projection, Scene};
 use crate::texture::MipMap;
@@ -53,11 +53,17 @@ impl SceneSource {
         }
     }
 
-    /// Loads the scene.
+    /// Loads the scene (the file's default scene, at rest).
     pub fn load(&self) -> Result<Scene, LoadError> {
+        self.load_selected(&SceneSelection::default())
+    }
+
+    /// Loads the scene and animation time `selection` names; the demo scene has one scene and
+    /// no animation, so it ignores them.
+    pub fn load_selected(&self, selection: &SceneSelection) -> Result<Scene, LoadError> {
         match self {
             SceneSource::Demo => crate::scene::demo::demo_scene(),
-            SceneSource::File(path) => crate::scene::gltf::load(path),
+            SceneSource::File(path) => crate::scene::gltf::load_with(path, selection),
         }
     }
 }
@@ -165,6 +171,8 @@ pub struct OutputSpec {
 pub struct Job {
     /// The scene.
     pub scene: SceneSource,
+    /// Which of the file's scenes, and the animation time (`--scene`, `--time`).
+    pub selection: SceneSelection,
     /// The ray-query backend.
     pub backend: BackendKind,
     /// The camera.
@@ -193,6 +201,7 @@ impl Default for Job {
     fn default() -> Self {
         Self {
             scene: SceneSource::Demo,
+            selection: SceneSelection::default(),
             backend: BackendKind::default(),
             camera: CameraChoice::First,
             lights: Vec::new(),
@@ -275,9 +284,13 @@ pub struct PreparedScene {
 }
 
 impl PreparedScene {
-    /// Loads `source` and prepares it for `backend`.
-    pub fn load(source: &SceneSource, backend: BackendKind) -> Result<Self, JobError> {
-        let scene = source.load()?;
+    /// Loads `source` (the scene and time `selection` names) and prepares it for `backend`.
+    pub fn load(
+        source: &SceneSource,
+        selection: &SceneSelection,
+        backend: BackendKind,
+    ) -> Result<Self, JobError> {
+        let scene = source.load_selected(selection)?;
         Self::new(scene, source.label(), backend)
     }
 
@@ -688,7 +701,7 @@ mod tests {
             backend: BackendKind::Bvh,
             ..Job::default()
         };
-        let prepared = PreparedScene::load(&job.scene, job.backend).unwrap();
+        let prepared = PreparedScene::load(&job.scene, &job.selection, job.backend).unwrap();
         let notes = std::sync::Mutex::new(Vec::new());
         let done = run(&job, &prepared, None, None, &|n| {
             notes.lock().unwrap().push(n)

@@ -45,6 +45,13 @@ pub struct RenderArgs {
     /// Ray-query backend: embree or bvh.
     #[arg(long, default_value_t = BackendKind::default())]
     pub backend: BackendKind,
+    /// Which of the file's scenes to render (glTF `scenes` index, from 0) [default: the
+    /// file's default scene].
+    #[arg(long = "scene", value_name = "N")]
+    pub scene_index: Option<usize>,
+    /// Sample every animation at this time in seconds [default: none; the rest pose].
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub time: Option<f32>,
     /// Which of the scene's cameras to use (index, from 0) [default: the first, or a default
     /// camera framing the scene if it has none].
     #[arg(long)]
@@ -183,6 +190,10 @@ impl RenderArgs {
             scene: match &self.scene {
                 Some(path) => SceneSource::File(path.clone()),
                 None => SceneSource::Demo,
+            },
+            selection: crate::scene::gltf::SceneSelection {
+                scene: self.scene_index,
+                time: self.time,
             },
             backend: self.backend,
             camera: match self.camera {

@@ -3,7 +3,8 @@
 //! # Supported
 //! - `.gltf` with external files or base64 data URIs, and `.glb` (binary chunk); URIs are
 //!   relative paths (percent-escapes decoded) or data URIs.
-//! - The default scene (else scene 0; a file without scenes renders its root nodes). The node
+//! - The default scene, or the one [`SceneSelection::scene`] names (else scene 0; a file
+//!   without scenes renders its root nodes). The node
 //!   hierarchy is flattened: matrix or translation · rotation · scale composed down the tree;
 //!   one [`Mesh`](super::Mesh) per (node, primitive), named `node "X" / mesh 3 / primitive 0`.
 //!   Positions go through the world matrix, normals through its inverse transpose
@@ -14,12 +15,16 @@
 //!   the glTF spec defines them), indexed or not.
 //! - Attributes POSITION, NORMAL, TANGENT, TEXCOORD_0, TEXCOORD_1 (float or normalized
 //!   integers), COLOR_0 (RGB or RGBA, float or normalized integers; linear). Sparse
-//!   accessors.
+//!   accessors. KHR_mesh_quantization's integer layouts (`quantization`), and
+//!   EXT_meshopt_compression's compressed buffer views, decoded at load (`meshopt`).
+//! - Morph targets with the node's or mesh's default weights (`morph`); skins posed by their
+//!   joints (`skin`); animations sampled at [`SceneSelection::time`] (`animation`).
+//! - EXT_mesh_gpu_instancing, flattened into one mesh per instance (`instancing`).
 //! - Materials: baseColorFactor and baseColorTexture, metallicFactor, roughnessFactor,
 //!   emissiveFactor × KHR_materials_emissive_strength, emissiveTexture, doubleSided, name;
 //!   KHR_texture_transform on either texture (with its texCoord override). A primitive
 //!   without a material gets glTF's default (white, metallic 1, roughness 1, single-sided).
-//! - Textures: PNG and JPEG from files, data URIs or buffer views; base colour and emissive
+//! - Textures: PNG, JPEG and (EXT_texture_webp) WebP from files, data URIs or buffer views; base colour and emissive
 //!   decoded from sRGB to linear with the exact sRGB curve; sampler wrap modes and the
 //!   magnification filter.
 //! - Cameras (perspective and orthographic) of every camera node, in node order, with the
@@ -28,12 +33,12 @@
 //!   [`Light`](super::Light)): glTF's `intensity × color` is carried as is, no 683 lm/W.
 //!
 //! # Ignored
-//! - Skins, morph targets and animations (meshes load in their bind / rest pose).
+//! - Animations when no time is given (one warning; the rest pose renders).
 //! - metallicRoughnessTexture, normalTexture, occlusionTexture, alphaMode / alphaCutoff,
 //!   texture minification filters, the camera's znear / zfar.
 //! - KHR_materials_* extensions other than emissive_strength, and every other extension:
-//!   a file that lists one as *required* is refused; one that merely uses it loads with a
-//!   warning.
+//!   a file that lists some as *required* is refused naming all of them (with advice for
+//!   Draco and KTX2); one that merely uses them loads with a warning.
 //! - POINTS, LINES, LINE_LOOP and LINE_STRIP primitives: skipped with a warning (one line
 //!   primitive should not make a whole scene unloadable).
 //! - TEXCOORD_2 and above, COLOR_1 and above.
@@ -45,13 +50,25 @@
 //! unsupported required extension, an image that does not decode.
 
 mod accessors;
+mod animation;
 mod error;
+mod instancing;
 mod materials;
+#[cfg(feature = "meshopt")]
+mod meshopt;
+#[cfg(not(feature = "meshopt"))]
+#[path = "gltf/meshopt_off.rs"]
+mod meshopt;
+mod morph;
 mod nodes;
 mod objects;
 mod primitives;
 mod procedural;
+mod quantization;
+mod skin;
 mod source;
+mod unsupported;
+mod webp;
 
 pub use error::LoadError;
 pub use materials::uv_transform;
@@ -59,8 +76,22 @@ pub use primitives::{assemble_triangles, normal_transform};
 pub use source::SUPPORTED_EXTENSIONS;
 
 use super::{Material, Scene};
+use glam::Mat4;
 use source::Origin;
 use std::path::Path;
+
+/// Which scene of the file to load, and at what animation time.
+///
+/// The default is what `load` does: the file's default scene (else scene 0) in its rest
+/// pose, animations not applied.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SceneSelection {
+    /// The index of the scene to render (`--scene N`); `None`: the file's default scene.
+    pub scene: Option<usize>,
+    /// The time in seconds at which every animation is sampled (`--time SECONDS`); `None`:
+    /// the rest pose (the file's node transforms and default morph weights).
+    pub time: Option<f32>,
+}
 
 /// A loaded scene and the warnings the loader gave (skipped primitives, ignored extensions).
 #[derive(Debug)]
@@ -77,6 +108,11 @@ pub fn load(path: &Path) -> Result<Scene, LoadError> {
     load_with_warnings(path).map(print_warnings)
 }
 
+/// Like [`load`], for the scene and animation time `selection` names; warnings go to stderr.
+pub fn load_with(path: &Path, selection: &SceneSelection) -> Result<Scene, LoadError> {
+    load_selected(path, selection).map(print_warnings)
+}
+
 /// Loads a glTF or GLB held in memory (the embedded demo scene); `label` names it in errors and
 /// `base_dir` resolves relative URIs (None: only embedded data is allowed).
 /// Warnings go to stderr; use [`load_slice_with_warnings`] to handle them yourself.
@@ -86,6 +122,11 @@ pub fn load_slice(bytes: &[u8], label: &str, base_dir: Option<&Path>) -> Result<
 
 /// Like [`load`], returning the warnings instead of printing them.
 pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
+    load_selected(path, &SceneSelection::default())
+}
+
+/// Like [`load_with_warnings`], for the scene and animation time `selection` names.
+pub fn load_selected(path: &Path, selection: &SceneSelection) -> Result<Loaded, LoadError> {
     let bytes = std::fs::read(path).map_err(|source| LoadError::Read {
         path: path.to_path_buf(),
         source,
@@ -97,6 +138,7 @@ pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
             file: path,
             base_dir: Some(base_dir),
         },
+        selection,
     )
 }
 
@@ -112,6 +154,7 @@ pub fn load_slice_with_warnings(
             file: Path::new(label),
             base_dir,
         },
+        &SceneSelection::default(),
     )
 }
 
@@ -122,7 +165,11 @@ fn print_warnings(loaded: Loaded) -> Scene {
     loaded.scene
 }
 
-fn load_bytes(bytes: &[u8], origin: Origin<'_>) -> Result<Loaded, LoadError> {
+fn load_bytes(
+    bytes: &[u8],
+    origin: Origin<'_>,
+    selection: &SceneSelection,
+) -> Result<Loaded, LoadError> {
     let mut warnings = Vec::new();
     let source = source::parse(bytes, origin, &mut warnings)?;
     let document = &source.document;
@@ -134,35 +181,109 @@ fn load_bytes(bytes: &[u8], origin: Origin<'_>) -> Result<Loaded, LoadError> {
     let default_material = materials.len();
     let mut uses_default = false;
 
-    let placed = nodes::flatten(document, origin, &mut warnings)?;
+    let pose = match selection.time {
+        Some(time) if time.is_finite() => {
+            animation::sample(document, &source.buffers, time, origin)?
+        }
+        Some(time) => {
+            return Err(LoadError::Invalid {
+                path: origin.file.to_path_buf(),
+                message: format!("animation time {time} is not a finite number of seconds"),
+            });
+        }
+        None => {
+            let count = document.animations().len();
+            if count > 0 {
+                warnings.push(format!(
+                    "{}: {count} animation(s) not applied (rest pose); pass --time SECONDS to sample them",
+                    origin.file.display()
+                ));
+            }
+            animation::Pose::rest()
+        }
+    };
+    let quantized = quantization::enabled(document);
+    let placed = nodes::flatten(document, selection.scene, &pose, origin, &mut warnings)?;
+    // Joint transforms need every node's world matrix, not only the scene's.
+    let all_world = if document.skins().len() > 0 {
+        skin::world_matrices(document, &pose, origin)?
+    } else {
+        Vec::new()
+    };
     let mut scene = Scene {
         textures,
         ..Scene::default()
     };
     for node in &placed {
         if let Some(mesh) = node.node.mesh() {
-            for primitive in mesh.primitives() {
-                let material = match primitive.material().index() {
-                    Some(index) => index,
-                    None => {
-                        uses_default = true;
-                        default_material
-                    }
-                };
-                let ctx = primitives::PrimitiveContext {
+            let weights = pose
+                .node(node.node.index())
+                .and_then(|p| p.weights.clone())
+                .unwrap_or_else(|| morph::default_weights(&node.node));
+            let joints = match node.node.skin() {
+                Some(skin) => Some(skin::joint_matrices(
+                    &node.node,
+                    &skin,
+                    &all_world,
+                    &source.buffers,
                     origin,
-                    buffers: &source.buffers,
-                    label: format!(
-                        "{} / mesh {} / primitive {}",
-                        nodes::node_label(&node.node),
-                        mesh.index(),
-                        primitive.index()
-                    ),
-                    world_from_object: node.world_from_node,
-                    material,
-                };
-                if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
-                    scene.meshes.push(built);
+                )?),
+                None => None,
+            };
+            // Instancing is flattened (one copy per instance); a skinned mesh is placed by
+            // its joints, so instancing it would be meaningless.
+            let instances = match (
+                &joints,
+                instancing::transforms(&node.node, document, &source.buffers, origin)?,
+            ) {
+                (None, Some(instances)) => instances,
+                (Some(_), Some(_)) => {
+                    warnings.push(format!(
+                        "{}: {}: EXT_mesh_gpu_instancing on a skinned node is ignored (the joints place the mesh)",
+                        origin.file.display(),
+                        nodes::node_label(&node.node)
+                    ));
+                    vec![Mat4::IDENTITY]
+                }
+                (_, None) => vec![Mat4::IDENTITY],
+            };
+            let instanced = instances.len() > 1
+                || node
+                    .node
+                    .extension_value("EXT_mesh_gpu_instancing")
+                    .is_some();
+            for (instance, local) in instances.iter().enumerate() {
+                for primitive in mesh.primitives() {
+                    let material = match primitive.material().index() {
+                        Some(index) => index,
+                        None => {
+                            uses_default = true;
+                            default_material
+                        }
+                    };
+                    let instance_label = if instanced {
+                        format!(" / instance {instance}")
+                    } else {
+                        String::new()
+                    };
+                    let ctx = primitives::PrimitiveContext {
+                        origin,
+                        buffers: &source.buffers,
+                        label: format!(
+                            "{} / mesh {} / primitive {}{instance_label}",
+                            nodes::node_label(&node.node),
+                            mesh.index(),
+                            primitive.index()
+                        ),
+                        world_from_object: node.world_from_node * *local,
+                        material,
+                        quantized,
+                        morph_weights: &weights,
+                        skin: joints.as_deref(),
+                    };
+                    if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                        scene.meshes.push(built);
+                    }
                 }
             }
         }

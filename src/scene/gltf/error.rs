@@ -68,19 +68,21 @@ pub enum LoadError {
         /// What is wrong and how to fix it.
         problem: String,
     },
-    /// The file requires an extension glint cannot honour.
+    /// The file requires extensions glint cannot honour (all of them named at once).
     #[error(
-        "{}: the file requires extension {extension}, which glint does not support \
-         (supported: {supported}); re-export the scene without it",
+        "{}: the file requires {extension}, which glint does not support \
+         (supported: {supported}); {advice}",
         path.display()
     )]
     UnsupportedExtension {
+        /// `extension NAME`, or `extensions A, B and C` when several are missing.
+        extension: String,
         /// The scene file.
         path: PathBuf,
-        /// The extension's name.
-        extension: String,
         /// The extensions glint supports, comma-separated.
         supported: String,
+        /// How to convert the file into something glint reads.
+        advice: String,
     },
     /// A primitive's data is unusable: a bad accessor, an index past the vertex count, a NaN
     /// position.

@@ -1,6 +1,7 @@
 //! Flattening the node hierarchy: each node's world matrix, composed down the tree.
 
 use super::LoadError;
+use super::animation::Pose;
 use super::source::Origin;
 use glam::{Mat4, Quat, Vec3};
 
@@ -21,17 +22,32 @@ pub fn node_label(node: &::gltf::Node<'_>) -> String {
 }
 
 /// Every node of the scene to render, parents before children (depth-first, in the file's
-/// child order). The scene is the file's default scene, else scene 0; a file without scenes
-/// gets its root nodes rendered, with a warning.
+/// child order), posed by `pose`. The scene is `scene` if given, else the file's default
+/// scene, else scene 0; a file without scenes gets its root nodes rendered, with a warning.
 pub fn flatten<'a>(
     document: &'a ::gltf::Document,
+    scene: Option<usize>,
+    pose: &Pose,
     origin: Origin<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<PlacedNode<'a>>, LoadError> {
-    let roots: Vec<::gltf::Node<'a>> = match document
-        .default_scene()
-        .or_else(|| document.scenes().next())
-    {
+    let chosen =
+        match scene {
+            Some(index) => Some(document.scenes().nth(index).ok_or_else(|| {
+                LoadError::Invalid {
+                    path: origin.file.to_path_buf(),
+                    message: format!(
+                        "scene {index} was asked for, but the file has {} scenes (pick 0..{})",
+                        document.scenes().len(),
+                        document.scenes().len().saturating_sub(1)
+                    ),
+                }
+            })?),
+            None => document
+                .default_scene()
+                .or_else(|| document.scenes().next()),
+        };
+    let roots: Vec<::gltf::Node<'a>> = match chosen {
         Some(scene) => scene.nodes().collect(),
         None => {
             let mut has_parent = vec![false; document.nodes().len()];
@@ -70,7 +86,7 @@ pub fn flatten<'a>(
                     .into(),
             });
         }
-        let world_from_node = world_from_parent * local_transform(&node, origin)?;
+        let world_from_node = world_from_parent * local_transform(&node, pose, origin)?;
         stack.extend(
             node.children()
                 .collect::<Vec<_>>()
@@ -86,8 +102,14 @@ pub fn flatten<'a>(
     Ok(placed)
 }
 
-/// The node's own transform, from its matrix or its translation · rotation · scale.
-fn local_transform(node: &::gltf::Node<'_>, origin: Origin<'_>) -> Result<Mat4, LoadError> {
+/// The node's own transform, from its matrix or its translation · rotation · scale, with
+/// the properties `pose` animates replacing the file's (glTF forbids animating a node that
+/// has a matrix; such a node keeps its matrix).
+pub fn local_transform(
+    node: &::gltf::Node<'_>,
+    pose: &Pose,
+    origin: Origin<'_>,
+) -> Result<Mat4, LoadError> {
     let fail = |problem: &str| LoadError::Node {
         path: origin.file.to_path_buf(),
         what: node_label(node),
@@ -100,7 +122,16 @@ fn local_transform(node: &::gltf::Node<'_>, origin: Origin<'_>) -> Result<Mat4, 
             rotation,
             scale,
         } => {
-            let rotation = Quat::from_array(rotation);
+            let animated = pose.node(node.index());
+            let translation = animated
+                .and_then(|p| p.translation)
+                .map_or(translation, |v| v.to_array());
+            let scale = animated
+                .and_then(|p| p.scale)
+                .map_or(scale, |v| v.to_array());
+            let rotation = animated
+                .and_then(|p| p.rotation)
+                .unwrap_or(Quat::from_array(rotation));
             // Exporters write quaternions a few ulps off unit length; a zero one is an error.
             if rotation.length_squared().is_nan() || rotation.length_squared() <= 0.0 {
                 return Err(fail(

@@ -3,6 +3,7 @@
 use super::LoadError;
 use super::accessors::{self, COLOR, INDICES, TEXCOORD, VEC3_F32, VEC4_F32};
 use super::source::Origin;
+use super::{morph, quantization, skin};
 use crate::scene::Mesh;
 use ::gltf::mesh::Mode;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
@@ -19,6 +20,13 @@ pub struct PrimitiveContext<'a> {
     pub world_from_object: Mat4,
     /// Index into `Scene::materials`.
     pub material: usize,
+    /// Whether the file uses KHR_mesh_quantization (integer vertex attributes allowed).
+    pub quantized: bool,
+    /// Morph-target weights (the node's, else the mesh's, else zeros; animated at `--time`).
+    pub morph_weights: &'a [f32],
+    /// The skin's joint matrices (joint world transform × inverse bind matrix), if the node
+    /// is skinned; then `world_from_object` is ignored, as glTF specifies.
+    pub skin: Option<&'a [Mat4]>,
 }
 
 /// Builds the world-space mesh of `primitive`, or `None` (with a warning) for a primitive
@@ -63,10 +71,14 @@ pub fn build(
             "has no POSITION attribute (re-export the mesh)".into(),
         ));
     };
-    check(&position_accessor, "POSITION", VEC3_F32)?;
+    let quantized = |core, extended| if ctx.quantized { extended } else { core };
+    check(
+        &position_accessor,
+        "POSITION",
+        quantized(VEC3_F32, quantization::POSITION),
+    )?;
     let vertex_count = position_accessor.count();
-    let object_positions: Vec<[f32; 3]> =
-        accessors::collect_or_zeros(reader.read_positions(), vertex_count);
+    let mut object_positions: Vec<[f32; 3]> = quantization::read(&position_accessor, ctx.buffers);
     if let Some(vertex) = object_positions
         .iter()
         .position(|p| !p.iter().all(|c| c.is_finite()))
@@ -135,36 +147,43 @@ pub fn build(
             )))
         }
     };
-    let object_normals = match primitive.get(&::gltf::Semantic::Normals) {
+    let mut object_normals: Option<Vec<[f32; 3]>> = match primitive.get(&::gltf::Semantic::Normals)
+    {
         Some(accessor) => {
-            check(&accessor, "NORMAL", VEC3_F32)?;
+            check(
+                &accessor,
+                "NORMAL",
+                quantized(VEC3_F32, quantization::NORMAL),
+            )?;
             same_count(&accessor, "NORMAL")?;
-            Some(accessors::collect_or_zeros(
-                reader.read_normals(),
-                vertex_count,
-            ))
+            Some(quantization::read(&accessor, ctx.buffers))
         }
         None => None,
     };
-    let object_tangents = match primitive.get(&::gltf::Semantic::Tangents) {
-        Some(accessor) => {
-            check(&accessor, "TANGENT", VEC4_F32)?;
-            same_count(&accessor, "TANGENT")?;
-            Some(accessors::collect_or_zeros(
-                reader.read_tangents(),
-                vertex_count,
-            ))
-        }
-        None => None,
-    };
+    let mut object_tangents: Option<Vec<[f32; 4]>> =
+        match primitive.get(&::gltf::Semantic::Tangents) {
+            Some(accessor) => {
+                check(
+                    &accessor,
+                    "TANGENT",
+                    quantized(VEC4_F32, quantization::TANGENT),
+                )?;
+                same_count(&accessor, "TANGENT")?;
+                Some(quantization::read(&accessor, ctx.buffers))
+            }
+            None => None,
+        };
     let mut texcoords: [Option<Vec<Vec2>>; 2] = [None, None];
     for (set, slot) in texcoords.iter_mut().enumerate() {
         if let Some(accessor) = primitive.get(&::gltf::Semantic::TexCoords(set as u32)) {
             let semantic = format!("TEXCOORD_{set}");
-            check(&accessor, &semantic, TEXCOORD)?;
+            check(
+                &accessor,
+                &semantic,
+                quantized(TEXCOORD, quantization::TEXCOORD),
+            )?;
             same_count(&accessor, &semantic)?;
-            let values = reader.read_tex_coords(set as u32).map(|t| t.into_f32());
-            let values: Vec<[f32; 2]> = accessors::collect_or_zeros(values, vertex_count);
+            let values: Vec<[f32; 2]> = quantization::read(&accessor, ctx.buffers);
             *slot = Some(values.into_iter().map(Vec2::from).collect());
         }
     }
@@ -179,8 +198,37 @@ pub fn build(
         None => None,
     };
 
+    // Morph targets, then skinning (which lands in world space itself).
+    let deform = morph::Targets {
+        primitive,
+        weights: ctx.morph_weights,
+        label: &ctx.label,
+        buffers: ctx.buffers,
+        origin: ctx.origin,
+    };
+    deform.apply(
+        &mut object_positions,
+        object_normals.as_deref_mut(),
+        object_tangents.as_deref_mut(),
+    )?;
+    let world = match ctx.skin {
+        Some(joints) => {
+            skin::apply(
+                primitive,
+                joints,
+                &ctx.label,
+                ctx.buffers,
+                ctx.origin,
+                &mut object_positions,
+                object_normals.as_deref_mut(),
+                object_tangents.as_deref_mut(),
+            )?;
+            Mat4::IDENTITY
+        }
+        None => ctx.world_from_object,
+    };
+
     // To world space.
-    let world = ctx.world_from_object;
     let positions: Vec<Vec3> = object_positions
         .into_iter()
         .map(|p| world.transform_point3(Vec3::from(p)))

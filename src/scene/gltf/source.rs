@@ -14,6 +14,11 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_texture_transform",
+    "KHR_mesh_quantization",
+    #[cfg(feature = "meshopt")]
+    "EXT_meshopt_compression",
+    "EXT_mesh_gpu_instancing",
+    "EXT_texture_webp",
 ];
 
 /// Size of the GLB header: magic, version, total length (3 × u32).
@@ -74,8 +79,13 @@ pub fn parse(
             )),
             other => origin.syntax(other.to_string()),
         })?;
-    let root = document.into_json();
+    let mut root = document.into_json();
     check_extensions(&root, origin, warnings)?;
+    super::webp::use_webp_sources(&mut root);
+    // glint decodes these itself; the `gltf` crate's validator would refuse them as
+    // required extensions it does not know.
+    root.extensions_required
+        .retain(|e| ::gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
     check_mesh_accessor_references(&root, origin)?;
     let document = ::gltf::Document::from_json(root).map_err(|err| match err {
         ::gltf::Error::Validation(problems) => LoadError::Schema {
@@ -84,7 +94,8 @@ pub fn parse(
         },
         other => origin.syntax(other.to_string()),
     })?;
-    let buffers = load_buffers(&document, blob, origin)?;
+    let mut buffers = load_buffers(&document, blob, origin)?;
+    let document = super::meshopt::decode_views(document, &mut buffers, origin)?;
     Ok(Source { document, buffers })
 }
 
@@ -155,16 +166,14 @@ fn check_extensions(
     origin: Origin<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<(), LoadError> {
-    if let Some(extension) = root
+    let missing: Vec<&str> = root
         .extensions_required
         .iter()
-        .find(|e| !SUPPORTED_EXTENSIONS.contains(&e.as_str()))
-    {
-        return Err(LoadError::UnsupportedExtension {
-            path: origin.file.to_path_buf(),
-            extension: extension.clone(),
-            supported: SUPPORTED_EXTENSIONS.join(", "),
-        });
+        .map(String::as_str)
+        .filter(|e| !SUPPORTED_EXTENSIONS.contains(e))
+        .collect();
+    if !missing.is_empty() {
+        return Err(super::unsupported::error(&missing, origin));
     }
     for extension in &root.extensions_used {
         if !SUPPORTED_EXTENSIONS.contains(&extension.as_str()) {
@@ -241,6 +250,12 @@ fn load_buffers(
     let mut buffers = Vec::with_capacity(document.buffers().len());
     for buffer in document.buffers() {
         let what = format!("buffer {}", buffer.index());
+        if super::meshopt::is_fallback(&buffer) {
+            // EXT_meshopt_compression's placeholder: its bytes exist only compressed, and
+            // `decode_views` points every view that used it at decoded data.
+            buffers.push(Vec::new());
+            continue;
+        }
         let data = match buffer.source() {
             ::gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
                 origin.data(

@@ -1,0 +1,91 @@
+//! The refusal for required extensions glint cannot honour: every missing extension named
+//! in one line, with a way to convert the file for the ones that have a known fix.
+
+use super::LoadError;
+use super::source::{Origin, SUPPORTED_EXTENSIONS};
+
+/// What to do about one unsupported extension, where there is something better to say
+/// than "re-export without it".
+fn advice(extension: &str) -> Option<&'static str> {
+    Some(match extension {
+        // glint has no Draco decoder (see the README's glTF support section for why).
+        "KHR_draco_mesh_compression" => {
+            "Draco-compressed geometry: decompress it first, e.g. `gltf-pipeline -i IN.glb -o OUT.glb` \
+             (writes plain geometry), then, to keep the file small, `gltfpack -i OUT.glb -o SMALL.glb -c` \
+             (meshopt compression, which glint reads)"
+        }
+        "KHR_texture_basisu" => {
+            "KTX2 / Basis Universal textures, which glint does not transcode: re-export the scene with PNG or \
+             JPEG textures (a .ktx2 file converts to PNG with KTX-Software's `ktx extract`)"
+        }
+        "EXT_meshopt_compression" => {
+            "meshopt-compressed geometry: rebuild glint with its `meshopt` feature (on by default; it needs \
+             a C++ compiler), or decompress with `gltfpack -i IN.glb -o OUT.glb` (no `-c`)"
+        }
+        "KHR_materials_pbrSpecularGlossiness" => {
+            "the specular-glossiness workflow: convert it to metallic-roughness, e.g. `gltf-transform metalrough IN.glb OUT.glb`"
+        }
+        _ => return None,
+    })
+}
+
+/// `A`, `A and B`, `A, B and C`.
+fn join_names(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => (*one).to_string(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+/// The error for a file whose `extensionsRequired` lists `missing` (non-empty), naming them
+/// all so that one round of conversion fixes the file.
+pub fn error(missing: &[&str], origin: Origin<'_>) -> LoadError {
+    let extension = match missing {
+        [one] => format!("extension {one}"),
+        several => format!("extensions {}", join_names(several)),
+    };
+    let mut hints: Vec<String> = missing
+        .iter()
+        .filter_map(|e| advice(e).map(|a| format!("{e} is {a}")))
+        .collect();
+    if hints.len() < missing.len() {
+        hints.push("re-export the scene without the others".to_string());
+    }
+    LoadError::UnsupportedExtension {
+        path: origin.file.to_path_buf(),
+        extension,
+        supported: SUPPORTED_EXTENSIONS.join(", "),
+        advice: hints.join("; "),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn every_missing_extension_is_named_on_one_line() {
+        let origin = Origin {
+            file: Path::new("x.glb"),
+            base_dir: None,
+        };
+        let message = error(
+            &[
+                "KHR_draco_mesh_compression",
+                "KHR_texture_basisu",
+                "EXT_foo",
+            ],
+            origin,
+        )
+        .to_string();
+        assert!(!message.contains('\n'));
+        assert!(message.contains(
+            "requires extensions KHR_draco_mesh_compression, KHR_texture_basisu and EXT_foo"
+        ));
+        assert!(message.contains("gltf-pipeline") && message.contains("without the others"));
+        let single = error(&["EXT_foo"], origin).to_string();
+        assert!(single.contains("requires extension EXT_foo,"));
+    }
+}
