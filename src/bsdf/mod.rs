@@ -11,8 +11,12 @@
 //! One BSDF per file, each with its formula in its doc block.
 
 pub mod lambert;
+pub mod metallic_roughness;
+pub mod microfacet;
 
 pub use lambert::LambertBsdf;
+pub use metallic_roughness::MetallicRoughnessBsdf;
+pub use microfacet::TrowbridgeReitz;
 
 use glam::{Vec2, Vec3};
 
@@ -43,7 +47,11 @@ impl Frame {
         if t == Vec3::ZERO || !t.is_finite() {
             return Self::from_normal(n);
         }
-        Self { t, b: n.cross(t), n }
+        Self {
+            t,
+            b: n.cross(t),
+            n,
+        }
     }
 
     /// World → local.
