@@ -223,7 +223,8 @@ impl Bsdf for MetallicRoughnessBsdf {
             return None;
         }
         let pdf = self.pdf(wo, wi);
-        if !(pdf > 0.0) || !pdf.is_finite() {
+        // Also rejects NaN.
+        if !pdf.is_finite() || pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         let weight = self.eval(wo, wi) * (wi.z / pdf);
