@@ -11,8 +11,12 @@
 //! One BSDF per file, each with its formula in its doc block.
 
 pub mod lambert;
+pub mod metallic_roughness;
+pub mod microfacet;
 
 pub use lambert::LambertBsdf;
+pub use metallic_roughness::MetallicRoughnessBsdf;
+pub use microfacet::TrowbridgeReitz;
 
 use glam::{Vec2, Vec3};
 

@@ -1,0 +1,294 @@
+//! The glTF 2.0 metallic-roughness BRDF, as the glTF specification's Appendix B defines it,
+//! with the Fresnel parameters of KHR_materials_ior and KHR_materials_specular.
+//!
+//! With `h = normalize(wo + wi)`, `c = |wo·h|`, `w = (1 − c)⁵`, both directions above the
+//! surface, and `α = roughness²`:
+//!
+//! ```text
+//! specular_brdf = D(h) · V(wo, wi),   V = G2(wo, wi) / (4 |n·wo| |n·wi|)    (GGX, Smith
+//!                                                                           height-correlated)
+//! F_metal  = baseColor + (1 − baseColor) · w                           (conductor_fresnel)
+//! F_diel   = f0 + (f90 − f0) · w                                       (fresnel_mix)
+//!   f0     = min(((ior − 1)/(ior + 1))² · specularColor, 1) · specular, f90 = specular
+//! dielectric_brdf = F_diel · specular_brdf + (1 − max(F_diel)) · baseColor / π
+//! metal_brdf      = F_metal · specular_brdf
+//! f = (1 − metallic) · dielectric_brdf + metallic · metal_brdf
+//! ```
+//!
+//! Without the extensions (`ior = 1.5`, `specular = 1`, `specularColor = 1`) this is Appendix
+//! B's `mix(diffuse_brdf, specular_brdf, 0.04 + 0.96 w)` for the dielectric. `ior = 0` (the
+//! specular-glossiness compatibility mode of KHR_materials_ior) gives `f0 = 1`, a Fresnel of 1.
+//! The model is not energy conserving in general: the spec says so itself (its `fresnel_mix`
+//! weights the diffuse by `1 − F(h)` while the specular lobe loses energy to masking), and
+//! it may reflect a little more than it receives for a white base at grazing angles.
+//!
+//! **Sampling.** A lobe is chosen with probabilities proportional to estimated lobe albedos,
+//! taking Schlick's Fresnel at `n·wo` in place of `wo·h`:
+//! `s = (1 − metallic) · mean(F_diel(n·wo)) + metallic · mean(F_metal(n·wo))`,
+//! `d = (1 − metallic) · (1 − max(F_diel(n·wo))) · mean(baseColor)`, `P(specular) = s/(s + d)`.
+//! The specular lobe draws a visible normal (see [`microfacet`](super::microfacet)) and
+//! reflects `wo` about it; the diffuse lobe draws a cosine-weighted direction. `pdf` is the
+//! mixture `P(specular)·Dv(wo, h)/(4|wo·h|) + P(diffuse)·cos θi/π` and the sample weight is
+//! `f · cos θi / pdf` with that mixture, so `sample` and `pdf` agree whatever lobe drew `wi`.
+//!
+//! **Smooth surfaces.** Below [`SMOOTH_ALPHA`](super::microfacet::SMOOTH_ALPHA) the specular
+//! lobe is a delta: the α → 0 limit of `∫ F · specular_brdf · cos dwi` is `F(n·wo)` in the
+//! mirror direction, so a delta sample has `weight = ((1 − metallic)·F_diel(n·wo) + metallic ·
+//! F_metal(n·wo)) / P(specular)` and `pdf = P(specular)`; `eval` and `pdf` carry only the
+//! diffuse lobe. glint's former mirror (metallic 1, roughness 0) is this BRDF's metallic,
+//! smooth end, now with Schlick's Fresnel.
+//!
+//! Reflection only: `wo` below the surface (`wo.z ≤ 0`) reflects nothing; the caller orients
+//! the shading frame toward `wo` for two-sided surfaces.
+
+use super::microfacet::{TrowbridgeReitz, reflect, schlick};
+use super::{Bsdf, BsdfSample};
+use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
+use glam::{Vec2, Vec3};
+use std::f32::consts::FRAC_1_PI;
+
+/// The glTF metallic-roughness BRDF (see the module documentation for the formulas).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MetallicRoughnessBsdf {
+    /// Linear base colour (glTF `baseColorFactor × texture × COLOR_0`, RGB).
+    pub base_color: Vec3,
+    /// Metalness in [0, 1].
+    pub metallic: f32,
+    /// The GGX distribution, `α = roughness²`.
+    pub distribution: TrowbridgeReitz,
+    /// Dielectric Fresnel at normal incidence (`0.04` by default).
+    pub dielectric_f0: Vec3,
+    /// Dielectric Fresnel at grazing incidence (KHR_materials_specular's `specular`, 1 by
+    /// default).
+    pub dielectric_f90: f32,
+}
+
+/// Dielectric Fresnel `f0` of an index of refraction against air, `((ior − 1)/(ior + 1))²`.
+#[inline]
+pub fn f0_from_ior(ior: f32) -> f32 {
+    let r = (ior - 1.0) / (ior + 1.0);
+    if r.is_finite() { r * r } else { 1.0 }
+}
+
+#[inline]
+fn mean(v: Vec3) -> f32 {
+    (v.x + v.y + v.z) * (1.0 / 3.0)
+}
+
+impl MetallicRoughnessBsdf {
+    /// The core glTF model: `base_color` linear RGB, `metallic` and perceptual `roughness`
+    /// clamped to [0, 1] (α = roughness²), dielectric `ior = 1.5`.
+    pub fn new(base_color: Vec3, metallic: f32, roughness: f32) -> Self {
+        let unit = |x: f32| {
+            if x.is_finite() {
+                x.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
+        Self {
+            base_color: base_color.max(Vec3::ZERO),
+            metallic: unit(metallic),
+            distribution: TrowbridgeReitz::from_roughness(roughness),
+            dielectric_f0: Vec3::splat(0.04),
+            dielectric_f90: 1.0,
+        }
+    }
+
+    /// The dielectric Fresnel of KHR_materials_ior (`ior`, 1.5 by default; 0 means f0 = 1) and
+    /// KHR_materials_specular (`specular` scales f0 and f90, `specular_color` tints f0):
+    /// `f0 = min(f0(ior) · specular_color, 1) · specular`, `f90 = specular`.
+    pub fn with_dielectric_fresnel(
+        mut self,
+        ior: f32,
+        specular: f32,
+        specular_color: Vec3,
+    ) -> Self {
+        let s = if specular.is_finite() {
+            specular.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let tint = specular_color.max(Vec3::ZERO);
+        self.dielectric_f0 = (f0_from_ior(ior) * tint).min(Vec3::ONE) * s;
+        self.dielectric_f90 = s;
+        self
+    }
+
+    #[inline]
+    fn dielectric_fresnel(&self, cos: f32) -> Vec3 {
+        schlick(self.dielectric_f0, Vec3::splat(self.dielectric_f90), cos)
+    }
+
+    #[inline]
+    fn metal_fresnel(&self, cos: f32) -> Vec3 {
+        schlick(self.base_color, Vec3::ONE, cos)
+    }
+
+    /// The probability of choosing the specular lobe for `wo` (see the module documentation).
+    pub fn specular_probability(&self, wo: Vec3) -> f32 {
+        let m = self.metallic;
+        let fd = self.dielectric_fresnel(wo.z);
+        let s = (1.0 - m) * mean(fd) + m * mean(self.metal_fresnel(wo.z));
+        let d = (1.0 - m) * (1.0 - fd.max_element()).max(0.0) * mean(self.base_color);
+        if s + d > 0.0 { s / (s + d) } else { 1.0 }
+    }
+
+    /// The diffuse term `(1 − metallic)(1 − max F_diel(wo·h)) baseColor/π`, for both
+    /// directions above the surface.
+    #[inline]
+    fn diffuse(&self, wo_h: f32) -> Vec3 {
+        let fd = self.dielectric_fresnel(wo_h).max_element();
+        self.base_color * ((1.0 - self.metallic) * (1.0 - fd).max(0.0) * FRAC_1_PI)
+    }
+
+    /// The rough specular term `(1 − m) F_diel D V + m F_metal D V` at half vector `h`.
+    #[inline]
+    fn specular(&self, wo: Vec3, wi: Vec3, h: Vec3) -> Vec3 {
+        let tr = &self.distribution;
+        let vis = tr.g2(wo, wi) / (4.0 * wo.z * wi.z);
+        let c = wo.dot(h);
+        let f = (1.0 - self.metallic) * self.dielectric_fresnel(c)
+            + self.metallic * self.metal_fresnel(c);
+        f * (tr.d(h) * vis)
+    }
+
+    /// The smooth (delta) lobe's reflectance at `n·wo`.
+    #[inline]
+    fn mirror_reflectance(&self, cos_o: f32) -> Vec3 {
+        (1.0 - self.metallic) * self.dielectric_fresnel(cos_o)
+            + self.metallic * self.metal_fresnel(cos_o)
+    }
+
+    /// The half vector of two upper directions, or `None` when they are opposite.
+    #[inline]
+    fn half(wo: Vec3, wi: Vec3) -> Option<Vec3> {
+        let h = (wo + wi).normalize_or_zero();
+        (h != Vec3::ZERO).then_some(h)
+    }
+}
+
+impl Bsdf for MetallicRoughnessBsdf {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let Some(h) = Self::half(wo, wi) else {
+            return Vec3::ZERO;
+        };
+        let diffuse = self.diffuse(wo.dot(h));
+        if self.distribution.is_smooth() {
+            return diffuse;
+        }
+        diffuse + self.specular(wo, wi, h)
+    }
+
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        let ps = self.specular_probability(wo);
+        let diffuse = (1.0 - ps) * cosine_hemisphere_pdf(wi.z);
+        if self.distribution.is_smooth() {
+            return diffuse;
+        }
+        let Some(h) = Self::half(wo, wi) else {
+            return diffuse;
+        };
+        diffuse + ps * self.distribution.reflection_pdf(wo, h)
+    }
+
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let ps = self.specular_probability(wo);
+        let choose_specular = u_lobe < ps;
+        if choose_specular && self.distribution.is_smooth() {
+            let weight = self.mirror_reflectance(wo.z) / ps;
+            return Some(BsdfSample {
+                wi: Vec3::new(-wo.x, -wo.y, wo.z),
+                weight,
+                pdf: ps,
+                delta: true,
+                transmission: false,
+            });
+        }
+        let wi = if choose_specular {
+            reflect(wo, self.distribution.sample_visible(wo, u))
+        } else {
+            cosine_hemisphere(u)
+        };
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = self.pdf(wo, wi);
+        // Also rejects NaN.
+        if !pdf.is_finite() || pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        let weight = self.eval(wo, wi) * (wi.z / pdf);
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            delta: false,
+            transmission: false,
+        })
+    }
+
+    fn is_delta(&self) -> bool {
+        self.distribution.is_smooth()
+            && (1.0 - self.metallic) * self.base_color.max_element() <= 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smooth_metal_is_a_delta_mirror_with_schlick_fresnel() {
+        let b = MetallicRoughnessBsdf::new(Vec3::new(0.9, 0.6, 0.3), 1.0, 0.0);
+        assert!(b.is_delta());
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let s = b
+            .sample(wo, 0.3, Vec2::new(0.2, 0.7))
+            .expect("a mirror sample");
+        assert!(s.delta && !s.transmission);
+        assert!((s.wi - Vec3::new(-0.6, 0.0, 0.8)).length() < 1e-6);
+        let w = 0.2f32.powi(5);
+        let expect = b.base_color + (Vec3::ONE - b.base_color) * w;
+        assert!((s.weight * s.pdf - expect).abs().max_element() < 1e-6);
+        assert_eq!(b.eval(wo, s.wi), Vec3::ZERO);
+        assert_eq!(b.pdf(wo, s.wi), 0.0);
+    }
+
+    #[test]
+    fn below_the_horizon_reflects_nothing() {
+        let b = MetallicRoughnessBsdf::new(Vec3::ONE, 0.3, 0.5);
+        let below = Vec3::new(0.0, 0.6, -0.8);
+        assert_eq!(b.eval(below, Vec3::Z), Vec3::ZERO);
+        assert_eq!(b.eval(Vec3::Z, below), Vec3::ZERO);
+        assert_eq!(b.pdf(below, Vec3::Z), 0.0);
+        assert!(b.sample(below, 0.5, Vec2::splat(0.5)).is_none());
+    }
+
+    #[test]
+    fn ior_and_specular_set_the_dielectric_fresnel() {
+        let b = MetallicRoughnessBsdf::new(Vec3::ONE, 0.0, 0.5);
+        assert!((b.dielectric_f0 - Vec3::splat(0.04)).abs().max_element() < 1e-7);
+        let c = b.with_dielectric_fresnel(1.5, 1.0, Vec3::ONE);
+        assert!((c.dielectric_f0 - Vec3::splat(0.04)).abs().max_element() < 1e-7);
+        let zero = b.with_dielectric_fresnel(0.0, 1.0, Vec3::ONE);
+        assert_eq!(zero.dielectric_f0, Vec3::ONE);
+        let tinted = b.with_dielectric_fresnel(2.0, 0.5, Vec3::new(100.0, 1.0, 0.0));
+        assert!(
+            (tinted.dielectric_f0 - Vec3::new(0.5, 0.5 / 9.0, 0.0))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        assert_eq!(tinted.dielectric_f90, 0.5);
+    }
+}
