@@ -22,9 +22,11 @@ use render_support::{look_at, ortho, quad, scene};
 /// Standard errors a pixel may lie from the closed form.
 const Z: f64 = 5.0;
 
-/// A Lambertian material of albedo ρ emitting `le`, shaded on both sides.
+/// A Lambertian material of albedo ρ emitting `le`, shaded on both sides: glTF's dielectric
+/// with KHR_materials_specular's factor 0, which leaves the diffuse lobe alone.
 fn diffuse(rho: f32, le: f32) -> Material {
     Material {
+        specular: 0.0,
         name: "diffuse".into(),
         base_color: Vec4::new(rho, rho, rho, 1.0),
         metallic: 0.0,

@@ -29,8 +29,18 @@ pub struct ShadingMaterial {
     pub base_color: Vec3,
     /// Base colour texture, if it names an existing texture.
     pub base_color_texture: Option<TextureRef>,
-    /// Share of ρ reflected diffusely.
+    /// Share of ρ reflected diffusely (the direct integrator's mapping).
     pub diffuse_weight: f32,
+    /// glTF metalness in [0, 1] (the path tracer's metallic-roughness BRDF).
+    pub metallic: f32,
+    /// glTF perceptual roughness in [0, 1].
+    pub roughness: f32,
+    /// Dielectric index of refraction (KHR_materials_ior).
+    pub ior: f32,
+    /// KHR_materials_specular factor and colour.
+    pub specular: f32,
+    /// See [`ShadingMaterial::specular`].
+    pub specular_color: Vec3,
     /// Share of ρ reflected as a mirror.
     pub mirror_weight: f32,
     /// Emitted radiance factor, W/(m²·sr).
@@ -52,6 +62,11 @@ impl ShadingMaterial {
             base_color: material.base_color.truncate(),
             base_color_texture: valid(&material.base_color_texture),
             diffuse_weight: material.diffuse_weight(),
+            metallic: material.metallic,
+            roughness: material.roughness,
+            ior: material.ior,
+            specular: material.specular,
+            specular_color: material.specular_color,
             mirror_weight: material.mirror_weight(),
             emissive: material.emissive,
             emissive_texture: valid(&material.emissive_texture),

@@ -7,8 +7,12 @@
 //! reflectance over its selection probability; `pdf` is `(1 − P_m) · cos θ / π`, the density of
 //! the only non-delta lobe. With `delta_only` (the direct integrator) the diffuse lobe is never
 //! sampled: it is lit by light sampling alone and the mirror is chosen with probability 1.
+//!
+//! The path tracer uses the glTF metallic-roughness BRDF instead
+//! ([`MetallicRoughnessBsdf`]): [`SurfaceBsdf`] is the one type both kernels hand to their
+//! light sampling and continuation code.
 
-use crate::bsdf::{Bsdf, BsdfSample, LambertBsdf, same_hemisphere};
+use crate::bsdf::{Bsdf, BsdfSample, LambertBsdf, MetallicRoughnessBsdf, same_hemisphere};
 use crate::material::reflect;
 use glam::{Vec2, Vec3};
 
@@ -104,6 +108,78 @@ impl Bsdf for DiffuseMirror {
 
     fn is_delta(&self) -> bool {
         self.diffuse == Vec3::ZERO
+    }
+}
+
+/// The BSDF at a hit, as the integrators see it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SurfaceBsdf {
+    /// Lambert plus perfect mirror (the direct integrator's mapping).
+    DiffuseMirror(DiffuseMirror),
+    /// The glTF metallic-roughness BRDF (the path tracer).
+    MetallicRoughness(MetallicRoughnessBsdf),
+}
+
+impl SurfaceBsdf {
+    /// The BSDF of a glint material at a hit with base colour `base_color`: the glTF
+    /// metallic-roughness BRDF, or (`delta_only`, the direct integrator) the Lambert and mirror
+    /// mapping whose diffuse part is never sampled.
+    #[inline]
+    pub fn for_material(
+        base_color: Vec3,
+        material: &crate::material::ShadingMaterial,
+        delta_only: bool,
+    ) -> Self {
+        if delta_only {
+            SurfaceBsdf::DiffuseMirror(DiffuseMirror::new(
+                base_color * material.diffuse_weight,
+                base_color * material.mirror_weight,
+                true,
+            ))
+        } else {
+            SurfaceBsdf::MetallicRoughness(
+                MetallicRoughnessBsdf::new(base_color, material.metallic, material.roughness)
+                    .with_dielectric_fresnel(
+                        material.ior,
+                        material.specular,
+                        material.specular_color,
+                    ),
+            )
+        }
+    }
+}
+
+impl Bsdf for SurfaceBsdf {
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        match self {
+            SurfaceBsdf::DiffuseMirror(b) => b.eval(wo, wi),
+            SurfaceBsdf::MetallicRoughness(b) => b.eval(wo, wi),
+        }
+    }
+
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            SurfaceBsdf::DiffuseMirror(b) => b.pdf(wo, wi),
+            SurfaceBsdf::MetallicRoughness(b) => b.pdf(wo, wi),
+        }
+    }
+
+    #[inline]
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        match self {
+            SurfaceBsdf::DiffuseMirror(b) => b.sample(wo, u_lobe, u),
+            SurfaceBsdf::MetallicRoughness(b) => b.sample(wo, u_lobe, u),
+        }
+    }
+
+    #[inline]
+    fn is_delta(&self) -> bool {
+        match self {
+            SurfaceBsdf::DiffuseMirror(b) => b.is_delta(),
+            SurfaceBsdf::MetallicRoughness(b) => b.is_delta(),
+        }
     }
 }
 

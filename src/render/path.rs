@@ -40,7 +40,7 @@ use crate::accel::{Coherence, Hit, Ray};
 use crate::bsdf::{Bsdf, Frame};
 use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_to};
 use crate::light::{Incident, PunctualLight, ShadowTarget};
-use crate::material::scattering::DiffuseMirror;
+use crate::material::scattering::SurfaceBsdf;
 use crate::material::{ShadingMaterial, material_index};
 use crate::scene::Mesh;
 use glam::{Vec3, Vec4};
@@ -344,14 +344,10 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
         return;
     }
 
-    let bsdf = DiffuseMirror::new(
-        albedo * material.diffuse_weight,
-        albedo * material.mirror_weight,
-        ctx.delta_only,
-    );
+    let bsdf = SurfaceBsdf::for_material(albedo, material, ctx.delta_only);
     let frame = Frame::from_normal(si.ns);
     let wo = frame.to_local(si.wo);
-    if bsdf.has_diffuse() {
+    if !bsdf.is_delta() {
         sample_lights::<TEXTURES>(ctx, &si, &frame, wo, &bsdf, path, q);
     }
 
@@ -434,7 +430,7 @@ fn sample_lights<const TEXTURES: bool>(
     si: &SurfaceInteraction,
     frame: &Frame,
     wo: Vec3,
-    bsdf: &DiffuseMirror,
+    bsdf: &SurfaceBsdf,
     path: &mut PathState,
     q: &mut Queues<'_>,
 ) {

@@ -74,6 +74,13 @@ pub struct Material {
     /// A procedural base colour (from the material's glTF `extras`), multiplied into ρ like
     /// a base colour texture.
     pub procedural: Option<crate::texture::ProceduralTexture>,
+    /// KHR_materials_ior: the dielectric's index of refraction (1.5 without the extension).
+    pub ior: f32,
+    /// KHR_materials_specular `specularFactor` (1 without it): scales the dielectric
+    /// specular lobe; 0 leaves a pure Lambertian diffuse.
+    pub specular: f32,
+    /// KHR_materials_specular `specularColorFactor` (white without it): tints f0.
+    pub specular_color: Vec3,
 }
 
 /// Roughness at or below which a metallic surface is a perfect mirror.
@@ -92,6 +99,9 @@ impl Default for Material {
             emissive_texture: None,
             double_sided: false,
             procedural: None,
+            ior: 1.5,
+            specular: 1.0,
+            specular_color: Vec3::ONE,
         }
     }
 }

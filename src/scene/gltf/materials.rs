@@ -100,6 +100,15 @@ pub fn load(
             ),
             double_sided: material.double_sided(),
             procedural: super::procedural::from_extras(material.extras(), &label, origin)?,
+            ior: material.ior().filter(|i| i.is_finite()).unwrap_or(1.5),
+            specular: material
+                .specular()
+                .map_or(1.0, |s| s.specular_factor())
+                .clamp(0.0, 1.0),
+            specular_color: material
+                .specular()
+                .map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
+                .max(Vec3::ZERO),
         });
     }
 
