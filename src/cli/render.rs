@@ -119,6 +119,32 @@ pub struct RenderArgs {
     /// Sample cap of a progressive render.
     #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
     pub max_spp: u32,
+    /// Every file the glTF refers to must resolve inside this folder (symbolic links
+    /// followed), or the load fails naming the URI.
+    #[arg(long, value_name = "DIR")]
+    pub asset_root: Option<PathBuf>,
+    /// Most texels one texture image may have (checked from its header before decoding); all
+    /// of a scene's textures together may have four times as many.
+    #[arg(long, value_name = "N", default_value_t = scene::gltf::DEFAULT_MAX_TEXTURE_PIXELS)]
+    pub max_texture_pixels: u64,
+}
+
+/// Most samples per pixel `--spp` accepts (2^24): beyond it f32 sample sums stop resolving a
+/// single sample's contribution.
+pub const MAX_SPP: u32 = 1 << 24;
+/// Most pixels per side `--width` / `--height` accept.
+pub const MAX_IMAGE_SIDE: u32 = 1 << 16;
+/// Most pixels an image may have (2^28, 256 Mpx: 4 GiB of RGBA f32 film).
+pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
+
+impl RenderArgs {
+    /// The loader options these arguments ask for.
+    pub fn load_options(&self) -> scene::gltf::LoadOptions {
+        scene::gltf::LoadOptions {
+            asset_root: self.asset_root.clone(),
+            max_texture_pixels: self.max_texture_pixels,
+        }
+    }
 }
 
 /// A loaded scene and its ray-query structure, shared by the renders of `glint batch`.
@@ -161,7 +187,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         }
     };
 
-    let (scene, label) = load_scene(args.scene.as_deref())?;
+    let (scene, label) = load_scene_with_options(args.scene.as_deref(), &args.load_options())?;
     // Checked before the (possibly long) build of the ray-query structure.
     choose_camera(&scene, args.camera, &|_| {})?;
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())
@@ -196,8 +222,21 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
 /// Loads `path`, or the embedded demo scene without one, with the label that names it in
 /// messages.
 pub fn load_scene(path: Option<&std::path::Path>) -> Result<(Scene, String), CliError> {
+    load_scene_with_options(path, &scene::gltf::LoadOptions::default())
+}
+
+/// Like [`load_scene`], with an asset root and texture budget.
+pub fn load_scene_with_options(
+    path: Option<&std::path::Path>,
+    options: &scene::gltf::LoadOptions,
+) -> Result<(Scene, String), CliError> {
     let scene = match path {
-        Some(path) => scene::gltf::load(path),
+        Some(path) => scene::gltf::load_with_options(path, options).map(|loaded| {
+            for warning in &loaded.warnings {
+                eprintln!("glint: warning: {warning}");
+            }
+            loaded.scene
+        }),
         None => scene::demo::demo_scene(),
     }
     .map_err(CliError::from_display)?;
@@ -422,8 +461,23 @@ pub fn check_options(
     if args.spp == 0 {
         return Err(CliError("--spp must be at least 1".into()));
     }
+    if args.spp > MAX_SPP {
+        return Err(CliError(format!(
+            "--spp {} is above the limit of {MAX_SPP}; render shards (--shard) and merge them for more",
+            args.spp
+        )));
+    }
     if args.width == Some(0) || args.height == Some(0) {
         return Err(CliError("--width and --height must be at least 1".into()));
+    }
+    let side = args.width.max(args.height).unwrap_or(0);
+    let pixels = u64::from(args.width.unwrap_or(1)) * u64::from(args.height.unwrap_or(1));
+    if side > MAX_IMAGE_SIDE || pixels > MAX_IMAGE_PIXELS {
+        return Err(CliError(format!(
+            "--width/--height {}×{} exceed the limits of {MAX_IMAGE_SIDE} per side and {MAX_IMAGE_PIXELS} pixels",
+            args.width.map_or("auto".to_string(), |w| w.to_string()),
+            args.height.map_or("auto".to_string(), |h| h.to_string()),
+        )));
     }
     let folder = match output.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,

@@ -46,14 +46,17 @@
 
 mod accessors;
 mod error;
+mod limits;
 mod materials;
 mod nodes;
 mod objects;
 mod primitives;
 mod procedural;
 mod source;
+mod validate;
 
 pub use error::LoadError;
+pub use limits::{DEFAULT_MAX_TEXTURE_PIXELS, LoadOptions, MAX_COORDINATE, MAX_EMISSION};
 pub use materials::uv_transform;
 pub use primitives::{assemble_triangles, normal_transform};
 pub use source::SUPPORTED_EXTENSIONS;
@@ -86,16 +89,30 @@ pub fn load_slice(bytes: &[u8], label: &str, base_dir: Option<&Path>) -> Result<
 
 /// Like [`load`], returning the warnings instead of printing them.
 pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Read {
+    load_with_options(path, &LoadOptions::default())
+}
+
+/// Like [`load_with_warnings`], with an asset root and size budgets.
+pub fn load_with_options(path: &Path, options: &LoadOptions) -> Result<Loaded, LoadError> {
+    let bytes = source::read_regular_file(path).map_err(|err| LoadError::Read {
         path: path.to_path_buf(),
-        source,
+        source: match err {
+            source::FileError::Io(err) => err,
+            source::FileError::NotRegular(kind) => std::io::Error::other(format!(
+                "it is {kind}, not a regular file"
+            )),
+        },
     })?;
-    let base_dir = path.parent().unwrap_or(Path::new("."));
+    let base_dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
     load_bytes(
         &bytes,
         Origin {
             file: path,
             base_dir: Some(base_dir),
+            options,
         },
     )
 }
@@ -111,6 +128,7 @@ pub fn load_slice_with_warnings(
         Origin {
             file: Path::new(label),
             base_dir,
+            options: &LoadOptions::default(),
         },
     )
 }
@@ -185,5 +203,6 @@ fn load_bytes(bytes: &[u8], origin: Origin<'_>) -> Result<Loaded, LoadError> {
         materials.push(Material::default());
     }
     scene.materials = materials;
+    limits::check_scene(&scene, origin)?;
     Ok(Loaded { scene, warnings })
 }
