@@ -46,7 +46,11 @@ fn main() -> std::process::ExitCode {
             mutate::Outcome::Refused => {}
             mutate::Outcome::Crash(why) => {
                 crashes += 1;
-                let ext = if mutant.starts_with(b"glTF") { "glb" } else { "gltf" };
+                let ext = if mutant.starts_with(b"glTF") {
+                    "glb"
+                } else {
+                    "gltf"
+                };
                 let file = crash_dir.join(format!("crash-{rng_seed}-{executions}.{ext}"));
                 let saved = std::fs::create_dir_all(&crash_dir)
                     .and_then(|()| std::fs::write(&file, &mutant));

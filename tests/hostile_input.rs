@@ -51,14 +51,27 @@ fn render_fails(dir: &Path, file: &str, extra: &[&str], expected: &[&str]) {
     args.push(file);
     let out = glint(dir, &args);
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!out.status.success(), "{file}: exit status {:?}", out.status);
-    assert!(out.status.code().is_some(), "{file}: killed by a signal: {stderr}");
+    assert!(
+        !out.status.success(),
+        "{file}: exit status {:?}",
+        out.status
+    );
+    assert!(
+        out.status.code().is_some(),
+        "{file}: killed by a signal: {stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{file}: panic: {stderr}");
     let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(lines.len(), 1, "{file}: expected one line, got: {stderr}");
-    assert!(lines[0].contains(file), "{file}: error does not name the file: {stderr}");
+    assert!(
+        lines[0].contains(file),
+        "{file}: error does not name the file: {stderr}"
+    );
     for e in expected {
-        assert!(lines[0].contains(e), "{file}: error lacks \"{e}\": {stderr}");
+        assert!(
+            lines[0].contains(e),
+            "{file}: error lacks \"{e}\": {stderr}"
+        );
     }
     let leftovers: Vec<_> = std::fs::read_dir(dir)
         .expect("list")
@@ -103,11 +116,18 @@ fn images_without_mime_type_or_source() {
     // A GLB whose image lives in a buffer view but has no mimeType.
     let mut doc = fixture.document(rest(json!({"bufferView": view})));
     doc["buffers"] = json!([{"byteLength": fixture.bin.len()}]);
-    let glb = mutate::glb(serde_json::to_string(&doc).expect("json").as_bytes(), Some(&fixture.bin));
+    let glb = mutate::glb(
+        serde_json::to_string(&doc).expect("json").as_bytes(),
+        Some(&fixture.bin),
+    );
     dir.write("no-mime.glb", &glb);
     render_fails(dir.path(), "no-mime.glb", &[], &["image 0", "mimeType"]);
     // An image with neither uri nor bufferView.
-    write_json(&dir, "no-source.gltf", &fixture.document(rest(json!({"name": "x"}))));
+    write_json(
+        &dir,
+        "no-source.gltf",
+        &fixture.document(rest(json!({"name": "x"}))),
+    );
     render_fails(dir.path(), "no-source.gltf", &[], &["image 0", "neither"]);
 }
 
@@ -122,7 +142,10 @@ fn huge_node_translation_and_scale_on_both_backends() {
     let mut scaled = triangle_doc(&TRIANGLE, json!({}));
     scaled["nodes"][0]["scale"] = json!([1e30, 1e30, 1e30]);
     write_json(&dir, "scaled.gltf", &scaled);
-    let mut camera = triangle_doc(&TRIANGLE, json!({"cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]}));
+    let mut camera = triangle_doc(
+        &TRIANGLE,
+        json!({"cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]}),
+    );
     camera["nodes"] = json!([{"mesh": 0}, {"camera": 0, "translation": [0, 0, 1e30]}]);
     camera["scenes"] = json!([{"nodes": [0, 1]}]);
     write_json(&dir, "far-camera.gltf", &camera);
@@ -159,7 +182,11 @@ fn crc32(bytes: &[u8]) -> u32 {
     for &b in bytes {
         crc ^= u32::from(b);
         for _ in 0..8 {
-            crc = if crc & 1 != 0 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
         }
     }
     !crc
@@ -200,7 +227,12 @@ fn texture_over_the_pixel_budget() {
         "images": [{"uri": data_uri("image/png", &huge_png(20000, 20000))}]
     }));
     write_json(&dir, "huge-png.gltf", &doc);
-    render_fails(dir.path(), "huge-png.gltf", &[], &["image 0", "20000×20000", "--max-texture-pixels"]);
+    render_fails(
+        dir.path(),
+        "huge-png.gltf",
+        &[],
+        &["image 0", "20000×20000", "--max-texture-pixels"],
+    );
     // A lower budget refuses a small image too, and names the option.
     let small = fixture.document(json!({
         "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
@@ -210,7 +242,12 @@ fn texture_over_the_pixel_budget() {
         "images": [{"uri": data_uri("image/png", &png(4, 4, &[128; 64]))}]
     }));
     write_json(&dir, "small-png.gltf", &small);
-    render_fails(dir.path(), "small-png.gltf", &["--max-texture-pixels", "15"], &["image 0", "--max-texture-pixels 16"]);
+    render_fails(
+        dir.path(),
+        "small-png.gltf",
+        &["--max-texture-pixels", "15"],
+        &["image 0", "--max-texture-pixels 16"],
+    );
 }
 
 fn buffer_uri_doc(uri: &str) -> Value {
@@ -222,18 +259,38 @@ fn buffer_uri_doc(uri: &str) -> Value {
 #[test]
 fn device_fifo_and_absolute_uris_are_refused_without_blocking() {
     let dir = TempDir::new("hostile-uri");
-    write_json(&dir, "zero.gltf", &buffer_uri_doc("../../../../../../../../dev/zero"));
-    render_fails(dir.path(), "zero.gltf", &[], &["buffer 0", "not a regular file"]);
+    write_json(
+        &dir,
+        "zero.gltf",
+        &buffer_uri_doc("../../../../../../../../dev/zero"),
+    );
+    render_fails(
+        dir.path(),
+        "zero.gltf",
+        &[],
+        &["buffer 0", "not a regular file"],
+    );
     write_json(&dir, "absolute.gltf", &buffer_uri_doc("/etc/passwd"));
     render_fails(dir.path(), "absolute.gltf", &[], &["buffer 0", "absolute"]);
     let fifo = dir.path().join("pipe.bin");
-    let made = Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("run mkfifo");
     assert!(made.success(), "mkfifo failed");
     write_json(&dir, "fifo.gltf", &buffer_uri_doc("pipe.bin"));
-    render_fails(dir.path(), "fifo.gltf", &[], &["buffer 0", "not a regular file"]);
+    render_fails(
+        dir.path(),
+        "fifo.gltf",
+        &[],
+        &["buffer 0", "not a regular file"],
+    );
     std::fs::remove_file(&fifo).expect("remove fifo");
     // The scene file itself may not be a device either.
-    let out = glint(dir.path(), &["render", "--quiet", "-o", "out.png", "/dev/zero"]);
+    let out = glint(
+        dir.path(),
+        &["render", "--quiet", "-o", "out.png", "/dev/zero"],
+    );
     assert!(!out.status.success() && out.status.code().is_some());
     assert!(String::from_utf8_lossy(&out.stderr).contains("not a regular file"));
 }
@@ -243,7 +300,10 @@ fn uris_outside_the_asset_root() {
     let dir = TempDir::new("hostile-root");
     std::fs::create_dir_all(dir.path().join("root")).expect("mkdir");
     let good = triangle_doc(&TRIANGLE, json!({}));
-    let uri = good["buffers"][0]["uri"].as_str().expect("data uri").to_string();
+    let uri = good["buffers"][0]["uri"]
+        .as_str()
+        .expect("data uri")
+        .to_string();
     let bytes = base64::Engine::decode(
         &base64::engine::general_purpose::STANDARD,
         uri.split_once(";base64,").expect("base64").1,
@@ -251,19 +311,46 @@ fn uris_outside_the_asset_root() {
     .expect("decode");
     dir.write("elsewhere.bin", &bytes);
     dir.write("root/inside.bin", &bytes);
-    write_json(&dir, "root/escape.gltf", &buffer_uri_doc("../elsewhere.bin"));
-    write_json(&dir, "root/escape-pct.gltf", &buffer_uri_doc("..%2Felsewhere.bin"));
+    write_json(
+        &dir,
+        "root/escape.gltf",
+        &buffer_uri_doc("../elsewhere.bin"),
+    );
+    write_json(
+        &dir,
+        "root/escape-pct.gltf",
+        &buffer_uri_doc("..%2Felsewhere.bin"),
+    );
     write_json(&dir, "root/inside.gltf", &buffer_uri_doc("inside.bin"));
     let root = ["--asset-root", "root"];
-    render_fails(dir.path(), "root/escape.gltf", &root, &["buffer 0", "../elsewhere.bin", "outside the asset root"]);
-    render_fails(dir.path(), "root/escape-pct.gltf", &root, &["buffer 0", "outside the asset root"]);
+    render_fails(
+        dir.path(),
+        "root/escape.gltf",
+        &root,
+        &["buffer 0", "../elsewhere.bin", "outside the asset root"],
+    );
+    render_fails(
+        dir.path(),
+        "root/escape-pct.gltf",
+        &root,
+        &["buffer 0", "outside the asset root"],
+    );
     // Inside the root it loads; without a root, relative `../` still resolves.
-    for (file, args) in [("root/inside.gltf", &root[..]), ("root/escape.gltf", &[][..])] {
-        let mut a = vec!["render", "--quiet", "--width", "8", "--height", "8", "--spp", "1", "-o", "ok.png"];
+    for (file, args) in [
+        ("root/inside.gltf", &root[..]),
+        ("root/escape.gltf", &[][..]),
+    ] {
+        let mut a = vec![
+            "render", "--quiet", "--width", "8", "--height", "8", "--spp", "1", "-o", "ok.png",
+        ];
         a.extend_from_slice(args);
         a.push(file);
         let out = glint(dir.path(), &a);
-        assert!(out.status.success(), "{file}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     }
 }
 
@@ -278,7 +365,18 @@ fn overflowing_material_factor_is_clamped() {
     write_json(&dir, "factor.gltf", &doc);
     let out = glint(
         dir.path(),
-        &["render", "--width", "16", "--height", "16", "--spp", "2", "-o", "out.exr", "factor.gltf"],
+        &[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--spp",
+            "2",
+            "-o",
+            "out.exr",
+            "factor.gltf",
+        ],
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
@@ -292,8 +390,14 @@ fn overflowing_material_factor_is_clamped() {
     )
     .expect("read exr");
     let pixels = &image.layer_data.channel_data.pixels;
-    assert!(pixels.iter().flatten().all(|c| c.is_finite()), "inf or NaN pixels");
-    assert!(pixels.iter().any(|p| p[0] > 0.0), "the emitter is not visible");
+    assert!(
+        pixels.iter().flatten().all(|c| c.is_finite()),
+        "inf or NaN pixels"
+    );
+    assert!(
+        pixels.iter().any(|p| p[0] > 0.0),
+        "the emitter is not visible"
+    );
 }
 
 #[test]
@@ -302,7 +406,9 @@ fn spp_and_size_upper_bounds() {
     for args in [
         &["render", "--quiet", "--spp", "4294967295", "-o", "out.png"][..],
         &["render", "--quiet", "--width", "100000", "-o", "out.png"][..],
-        &["render", "--quiet", "--width", "60000", "--height", "60000", "-o", "out.png"][..],
+        &[
+            "render", "--quiet", "--width", "60000", "--height", "60000", "-o", "out.png",
+        ][..],
     ] {
         let out = glint(dir.path(), args);
         let stderr = String::from_utf8_lossy(&out.stderr);

@@ -17,7 +17,10 @@ const MAX_SEED_BYTES: u64 = 64 * 1024;
 #[test]
 fn mutants_of_the_shared_assets_never_panic() {
     let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    let seeds = mutate::seeds(&[shared.join("scenes"), shared.join("khronos")], MAX_SEED_BYTES);
+    let seeds = mutate::seeds(
+        &[shared.join("scenes"), shared.join("khronos")],
+        MAX_SEED_BYTES,
+    );
     assert!(seeds.len() >= 5, "too few seeds under {}", shared.display());
     std::panic::set_hook(Box::new(|_| {}));
     let mut rng = rand_pcg::Pcg64::seed_from_u64(11);
@@ -30,5 +33,10 @@ fn mutants_of_the_shared_assets_never_panic() {
         }
     }
     let _ = std::panic::take_hook();
-    assert!(crashes.is_empty(), "{} crashes:\n{}", crashes.len(), crashes.join("\n"));
+    assert!(
+        crashes.is_empty(),
+        "{} crashes:\n{}",
+        crashes.len(),
+        crashes.join("\n")
+    );
 }

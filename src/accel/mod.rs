@@ -301,7 +301,7 @@ pub fn validate(meshes: &[TriangleMesh<'_>]) -> Result<(), AccelError> {
         if let Some(bad) = mesh
             .positions
             .iter()
-            .position(|p| !(p.abs().max_element() <= MAX_COORDINATE))
+            .position(|p| p.abs().max_element() > MAX_COORDINATE)
         {
             return Err(AccelError::InvalidGeometry {
                 mesh: mesh_index,

@@ -98,9 +98,9 @@ pub fn load_with_options(path: &Path, options: &LoadOptions) -> Result<Loaded, L
         path: path.to_path_buf(),
         source: match err {
             source::FileError::Io(err) => err,
-            source::FileError::NotRegular(kind) => std::io::Error::other(format!(
-                "it is {kind}, not a regular file"
-            )),
+            source::FileError::NotRegular(kind) => {
+                std::io::Error::other(format!("it is {kind}, not a regular file"))
+            }
         },
     })?;
     let base_dir = match path.parent() {

@@ -79,7 +79,7 @@ fn split(bytes: &[u8]) -> Option<(Value, Option<Vec<u8>>)> {
 /// A GLB of `json` and `bin`, with the chunk lengths and padding glTF requires.
 pub fn glb(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     let mut json = json.to_vec();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let mut chunks = Vec::new();
@@ -88,7 +88,7 @@ pub fn glb(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     chunks.extend_from_slice(&json);
     if let Some(bin) = bin {
         let mut bin = bin.to_vec();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         chunks.extend_from_slice(&(bin.len() as u32).to_le_bytes());
@@ -104,8 +104,29 @@ pub fn glb(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
 }
 
 const NUMBERS: &[f64] = &[
-    0.0, -0.0, -1.0, 1.0, 2.0, 3.0, 1e39, -1e39, 1e30, -1e30, 1e-30, 1e19, 4294967295.0,
-    4294967296.0, 65535.0, 65536.0, 2147483647.0, 5120.0, 5121.0, 5123.0, 5125.0, 5126.0, 0.5,
+    0.0,
+    -0.0,
+    -1.0,
+    1.0,
+    2.0,
+    3.0,
+    1e39,
+    -1e39,
+    1e30,
+    -1e30,
+    1e-30,
+    1e19,
+    4294967295.0,
+    4294967296.0,
+    65535.0,
+    65536.0,
+    2147483647.0,
+    5120.0,
+    5121.0,
+    5123.0,
+    5125.0,
+    5126.0,
+    0.5,
 ];
 const STRINGS: &[&str] = &[
     "/dev/zero",

@@ -56,7 +56,7 @@ impl LoadOptions {
 /// there lose all precision, and Embree aborts on them), or whose lights emit more than
 /// [`MAX_EMISSION`]. Called on the finished scene, before any ray-query structure is built.
 pub fn check_scene(scene: &Scene, origin: Origin<'_>) -> Result<(), LoadError> {
-    let far = |v: glam::Vec3| !(v.abs().max_element() <= MAX_COORDINATE);
+    let far = |v: glam::Vec3| v.is_nan() || v.abs().max_element() > MAX_COORDINATE;
     let fail = |what: &str, problem: String| LoadError::Node {
         path: origin.file.to_path_buf(),
         what: what.to_string(),
@@ -119,7 +119,7 @@ pub fn check_scene(scene: &Scene, origin: Origin<'_>) -> Result<(), LoadError> {
                 format!("the light is at {position}, beyond ±{MAX_COORDINATE:e}"),
             ));
         }
-        if !(emitted.max_element() <= MAX_EMISSION) {
+        if emitted.is_nan() || emitted.max_element() > MAX_EMISSION {
             return Err(fail(
                 &what,
                 format!(

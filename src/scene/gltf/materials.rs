@@ -1,7 +1,7 @@
 //! glTF materials → [`Material`]s, and the textures they use → decoded [`Texture`]s.
 
-use super::limits::{self, MAX_EMISSION};
 use super::LoadError;
+use super::limits::{self, MAX_EMISSION};
 use super::source::{Origin, read_uri, view_bytes};
 use crate::scene::texture_decode::{ColorSpace, DecodedImage, decode_image, image_dimensions};
 use crate::scene::{MagFilter, Material, Texture, TextureRef, WrapMode};
@@ -41,7 +41,13 @@ pub fn load(
         let info = info?;
         let mut transform = info.texture_transform();
         if let Some(t) = &transform {
-            let values = [t.offset()[0], t.offset()[1], t.rotation(), t.scale()[0], t.scale()[1]];
+            let values = [
+                t.offset()[0],
+                t.offset()[1],
+                t.rotation(),
+                t.scale()[0],
+                t.scale()[1],
+            ];
             if !values.iter().all(|v| v.is_finite() && v.abs() <= 1e9) {
                 warnings.push(format!(
                     "{}: {material}: {channel} texture's KHR_texture_transform has non-finite or absurd \

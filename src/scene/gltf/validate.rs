@@ -19,9 +19,7 @@ pub fn check_unwrapped_members(
     };
     for (index, camera) in root.cameras.iter().enumerate() {
         let present = match camera.type_ {
-            Checked::Valid(::gltf::json::camera::Type::Perspective) => {
-                camera.perspective.is_some()
-            }
+            Checked::Valid(::gltf::json::camera::Type::Perspective) => camera.perspective.is_some(),
             Checked::Valid(::gltf::json::camera::Type::Orthographic) => {
                 camera.orthographic.is_some()
             }
