@@ -38,6 +38,12 @@ impl BvhAccel {
         for (geom, mesh) in meshes.iter().enumerate() {
             for (prim, tri) in mesh.indices.iter().enumerate() {
                 let [a, b, c] = tri.map(|i| Vec3A::from(mesh.positions[i as usize]));
+                // A triangle whose normal (computed as `intersect_triangle` does) is zero is
+                // never hit (the determinant is 0 for every ray), and thousands of coincident
+                // ones make obvhs's PLOC build take seconds: leave them out of the tree.
+                if (c - a).cross(a - b) == Vec3A::ZERO {
+                    continue;
+                }
                 flat.push(Triangle {
                     v0: a,
                     v1: b,
@@ -46,7 +52,7 @@ impl BvhAccel {
                 flat_ids.push([geom as u32, prim as u32]);
             }
         }
-        let triangle_count = flat.len();
+        let triangle_count = meshes.iter().map(|m| m.indices.len()).sum();
         if flat.is_empty() {
             return Self {
                 bvh: CwBvh::default(),

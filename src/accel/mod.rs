@@ -291,6 +291,10 @@ pub fn build(
     }
 }
 
+/// Largest coordinate magnitude [`build`] accepts (2^40); see
+/// [`crate::scene::gltf::MAX_COORDINATE`].
+pub const MAX_COORDINATE: f32 = crate::scene::gltf::MAX_COORDINATE;
+
 /// Rejects input that would make either backend misbehave: out-of-range indices, non-finite
 /// positions. Catching it here keeps both backends' behaviour identical and defined. [`build`]
 /// calls it; callers that build a backend directly (`EmbreeAccel::build`, `BvhAccel::build`)
@@ -302,6 +306,21 @@ pub fn validate(meshes: &[TriangleMesh<'_>]) -> Result<(), AccelError> {
             return Err(AccelError::InvalidGeometry {
                 mesh: mesh_index,
                 reason: format!("vertex {bad} has a non-finite position"),
+            });
+        }
+        // Finite but huge coordinates overflow inside the builders (obvhs indexes out of
+        // bounds) and give rays Embree rejects with an abort; the loader refuses them with a
+        // better message, this keeps every other caller safe too.
+        if let Some(bad) = mesh
+            .positions
+            .iter()
+            .position(|p| p.abs().max_element() > MAX_COORDINATE)
+        {
+            return Err(AccelError::InvalidGeometry {
+                mesh: mesh_index,
+                reason: format!(
+                    "vertex {bad} lies beyond ±{MAX_COORDINATE:e}, where f32 rays lose all precision"
+                ),
             });
         }
         if let Some((tri, _)) = mesh

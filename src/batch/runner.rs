@@ -81,6 +81,7 @@ pub fn run(
                     scene: first.args.scene_index,
                     time: first.args.time,
                 },
+                &first.args.load_options(),
                 first.args.backend,
             )
             .map_err(|e| e.to_string())

@@ -23,7 +23,10 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     for note in job.check()? {
         say(note);
     }
-    let scene = job.scene.load_selected(&job.selection).map_err(JobError::from)?;
+    let scene = job
+        .scene
+        .load_with(&job.selection, &job.load_options)
+        .map_err(JobError::from)?;
     // Checked before the (possibly long) build of the ray-query structure.
     job.camera(&scene)?;
     let prepared = PreparedScene::new(scene, job.scene.label(), job.backend)?;

@@ -21,13 +21,17 @@ use crate::light::area::AreaLights;
 use crate::light::environment::{EnvironmentError, EnvironmentLight};
 use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr, write_png};
 use crate::scene::defaults::{self, NoSuchCamera};
-use crate::scene::gltf::{LoadError, SceneSelection};
+use crate::scene::gltf::{LoadError, LoadOptions, SceneSelection};
 use crate::scene::light_spec::{self, LightSpecError};
 use crate::scene::{Camera, Light, Projection, Scene};
 use crate::texture::MipMap;
 use glam::Vec3;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+
+/// Most samples per pixel a job accepts (2^24): beyond it f32 sample sums stop resolving a
+/// single sample's contribution.
+pub const MAX_SPP: u32 = 1 << 24;
 
 /// Image width when the job gives neither width nor height.
 pub const DEFAULT_WIDTH: u32 = 1280;
@@ -61,9 +65,22 @@ impl SceneSource {
     /// Loads the scene and animation time `selection` names; the demo scene has one scene and
     /// no animation, so it ignores them.
     pub fn load_selected(&self, selection: &SceneSelection) -> Result<Scene, LoadError> {
+        self.load_with(selection, &LoadOptions::default())
+    }
+
+    /// Like [`load_selected`](Self::load_selected), under `options` (asset root, texture
+    /// budget).
+    pub fn load_with(
+        &self,
+        selection: &SceneSelection,
+        options: &LoadOptions,
+    ) -> Result<Scene, LoadError> {
         match self {
             SceneSource::Demo => crate::scene::demo::demo_scene(),
-            SceneSource::File(path) => crate::scene::gltf::load_with(path, selection),
+            SceneSource::File(path) => {
+                crate::scene::gltf::load_full(path, selection, options)
+                    .map(crate::scene::gltf::print_warnings)
+            }
         }
     }
 }
@@ -173,6 +190,9 @@ pub struct Job {
     pub scene: SceneSource,
     /// Which of the file's scenes, and the animation time (`--scene`, `--time`).
     pub selection: SceneSelection,
+    /// How the file is loaded: asset root and texture budget (`--asset-root`,
+    /// `--max-texture-pixels`).
+    pub load_options: LoadOptions,
     /// The ray-query backend.
     pub backend: BackendKind,
     /// The camera.
@@ -202,6 +222,7 @@ impl Default for Job {
         Self {
             scene: SceneSource::Demo,
             selection: SceneSelection::default(),
+            load_options: LoadOptions::default(),
             backend: BackendKind::default(),
             camera: CameraChoice::First,
             lights: Vec::new(),
@@ -288,9 +309,10 @@ impl PreparedScene {
     pub fn load(
         source: &SceneSource,
         selection: &SceneSelection,
+        options: &LoadOptions,
         backend: BackendKind,
     ) -> Result<Self, JobError> {
-        let scene = source.load_selected(selection)?;
+        let scene = source.load_with(selection, options)?;
         Self::new(scene, source.label(), backend)
     }
 
@@ -338,8 +360,26 @@ impl Job {
         if self.settings.spp == 0 {
             return bad("--spp must be at least 1".into());
         }
+        if self.settings.spp > MAX_SPP {
+            return bad(format!(
+                "--spp {} is above the limit of {MAX_SPP}; render shards (--shard) and merge \
+                 them for more",
+                self.settings.spp
+            ));
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width and --height must be at least 1".into());
+        }
+        let side = self.width.max(self.height).unwrap_or(0);
+        let pixels = u64::from(self.width.unwrap_or(1)) * u64::from(self.height.unwrap_or(1));
+        if side > super::MAX_IMAGE_SIDE || pixels > super::MAX_PIXELS {
+            return bad(format!(
+                "--width/--height {}×{} exceed the limits of {} per side and {} pixels",
+                self.width.map_or("auto".to_string(), |w| w.to_string()),
+                self.height.map_or("auto".to_string(), |h| h.to_string()),
+                super::MAX_IMAGE_SIDE,
+                super::MAX_PIXELS
+            ));
         }
         let Some(out) = &self.output else {
             return Ok(notes);
@@ -701,7 +741,7 @@ mod tests {
             backend: BackendKind::Bvh,
             ..Job::default()
         };
-        let prepared = PreparedScene::load(&job.scene, &job.selection, job.backend).unwrap();
+        let prepared = PreparedScene::load(&job.scene, &job.selection, &job.load_options, job.backend).unwrap();
         let notes = std::sync::Mutex::new(Vec::new());
         let done = run(&job, &prepared, None, None, &|n| {
             notes.lock().unwrap().push(n)

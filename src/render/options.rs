@@ -137,9 +137,25 @@ pub struct RenderArgs {
     /// way).
     #[arg(long)]
     pub env_hidden: bool,
+    /// Every file the glTF refers to must resolve inside this folder (symbolic links
+    /// followed), or the load fails naming the URI.
+    #[arg(long, value_name = "DIR")]
+    pub asset_root: Option<PathBuf>,
+    /// Most texels one texture image may have (checked from its header before decoding); all
+    /// of a scene's textures together may have four times as many.
+    #[arg(long, value_name = "N", default_value_t = crate::scene::gltf::DEFAULT_MAX_TEXTURE_PIXELS)]
+    pub max_texture_pixels: u64,
 }
 
 impl RenderArgs {
+    /// The loader options these arguments ask for.
+    pub fn load_options(&self) -> crate::scene::gltf::LoadOptions {
+        crate::scene::gltf::LoadOptions {
+            asset_root: self.asset_root.clone(),
+            max_texture_pixels: self.max_texture_pixels,
+        }
+    }
+
     /// The library job these arguments stand for (the command line's spelling of a
     /// [`Job`]). Fails on a malformed `--sample-range` or progressive option.
     pub fn to_job(&self) -> Result<Job, JobError> {
@@ -195,6 +211,7 @@ impl RenderArgs {
                 scene: self.scene_index,
                 time: self.time,
             },
+            load_options: self.load_options(),
             backend: self.backend,
             camera: match self.camera {
                 Some(i) => CameraChoice::Index(i),

@@ -53,6 +53,7 @@ mod accessors;
 mod animation;
 mod error;
 mod instancing;
+mod limits;
 mod materials;
 #[cfg(feature = "meshopt")]
 mod meshopt;
@@ -68,9 +69,11 @@ mod quantization;
 mod skin;
 mod source;
 mod unsupported;
+mod validate;
 mod webp;
 
 pub use error::LoadError;
+pub use limits::{DEFAULT_MAX_TEXTURE_PIXELS, LoadOptions, MAX_COORDINATE, MAX_EMISSION};
 pub use materials::uv_transform;
 pub use primitives::{assemble_triangles, normal_transform};
 pub use source::SUPPORTED_EXTENSIONS;
@@ -122,21 +125,45 @@ pub fn load_slice(bytes: &[u8], label: &str, base_dir: Option<&Path>) -> Result<
 
 /// Like [`load`], returning the warnings instead of printing them.
 pub fn load_with_warnings(path: &Path) -> Result<Loaded, LoadError> {
-    load_selected(path, &SceneSelection::default())
+    load_with_options(path, &LoadOptions::default())
+}
+
+/// Like [`load_with_warnings`], with an asset root and size budgets.
+pub fn load_with_options(path: &Path, options: &LoadOptions) -> Result<Loaded, LoadError> {
+    load_full(path, &SceneSelection::default(), options)
 }
 
 /// Like [`load_with_warnings`], for the scene and animation time `selection` names.
 pub fn load_selected(path: &Path, selection: &SceneSelection) -> Result<Loaded, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Read {
+    load_full(path, selection, &LoadOptions::default())
+}
+
+/// Loads the scene and time `selection` names under `options` (asset root, size budgets),
+/// returning the warnings.
+pub fn load_full(
+    path: &Path,
+    selection: &SceneSelection,
+    options: &LoadOptions,
+) -> Result<Loaded, LoadError> {
+    let bytes = source::read_regular_file(path).map_err(|err| LoadError::Read {
         path: path.to_path_buf(),
-        source,
+        source: match err {
+            source::FileError::Io(err) => err,
+            source::FileError::NotRegular(kind) => {
+                std::io::Error::other(format!("it is {kind}, not a regular file"))
+            }
+        },
     })?;
-    let base_dir = path.parent().unwrap_or(Path::new("."));
+    let base_dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
     load_bytes(
         &bytes,
         Origin {
             file: path,
             base_dir: Some(base_dir),
+            options,
         },
         selection,
     )
@@ -153,12 +180,14 @@ pub fn load_slice_with_warnings(
         Origin {
             file: Path::new(label),
             base_dir,
+            options: &LoadOptions::default(),
         },
         &SceneSelection::default(),
     )
 }
 
-fn print_warnings(loaded: Loaded) -> Scene {
+/// Prints a load's warnings to stderr and returns its scene.
+pub fn print_warnings(loaded: Loaded) -> Scene {
     for warning in &loaded.warnings {
         eprintln!("glint: warning: {warning}");
     }
@@ -306,5 +335,6 @@ fn load_bytes(
         materials.push(Material::default());
     }
     scene.materials = materials;
+    limits::check_scene(&scene, origin)?;
     Ok(Loaded { scene, warnings })
 }

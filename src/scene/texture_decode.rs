@@ -39,10 +39,38 @@ pub fn srgb_to_linear(encoded: f32) -> f32 {
     }
 }
 
+/// Width and height from the image's header, without decoding it (the format is sniffed).
+pub fn image_dimensions(bytes: &[u8]) -> Result<(u32, u32), image::ImageError> {
+    image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(image::ImageError::IoError)?
+        .into_dimensions()
+}
+
 /// Decodes a PNG or JPEG held in memory (the format is sniffed from the bytes, since glTF's
 /// `mimeType` is optional and sometimes wrong). The error is the decoder's own message.
-pub fn decode_image(bytes: &[u8], space: ColorSpace) -> Result<DecodedImage, image::ImageError> {
-    let image = image::load_from_memory(bytes)?;
+///
+/// `max_pixels` bounds the texel count, checked from the header before any texel memory is
+/// allocated; the decoder's own allocation is bounded to match (8 bytes per texel covers
+/// 16-bit RGBA).
+pub fn decode_image(
+    bytes: &[u8],
+    space: ColorSpace,
+    max_pixels: u64,
+) -> Result<DecodedImage, image::ImageError> {
+    let (width, height) = image_dimensions(bytes)?;
+    if u64::from(width) * u64::from(height) > max_pixels {
+        return Err(image::ImageError::Limits(
+            image::error::LimitError::from_kind(image::error::LimitErrorKind::DimensionError),
+        ));
+    }
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(image::ImageError::IoError)?;
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(max_pixels.saturating_mul(8).max(1 << 20));
+    reader.limits(limits);
+    let image = reader.decode()?;
     let (width, height) = (image.width(), image.height());
     // 8-bit sources go through a 256-entry table; deeper ones (16-bit PNG) are converted per
     // channel so that no precision is thrown away.
@@ -127,11 +155,11 @@ mod tests {
         image::DynamicImage::ImageRgba16(image)
             .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
             .expect("encode");
-        let decoded = decode_image(&png, ColorSpace::Srgb).expect("decode");
+        let decoded = decode_image(&png, ColorSpace::Srgb, 1 << 20).expect("decode");
         let expected = srgb_to_linear(32768.0 / 65535.0);
         assert!((decoded.texels[0].x - expected).abs() < 1e-6);
         assert_eq!(decoded.texels[0].z, 1.0);
-        let linear = decode_image(&png, ColorSpace::Linear).expect("decode");
+        let linear = decode_image(&png, ColorSpace::Linear, 1 << 20).expect("decode");
         assert!((linear.texels[0].x - 32768.0 / 65535.0).abs() < 1e-7);
     }
 }

@@ -1,8 +1,9 @@
 //! glTF materials → [`Material`]s, and the textures they use → decoded [`Texture`]s.
 
 use super::LoadError;
+use super::limits::{self, MAX_EMISSION};
 use super::source::{Origin, read_uri, view_bytes};
-use crate::scene::texture_decode::{ColorSpace, DecodedImage, decode_image};
+use crate::scene::texture_decode::{ColorSpace, DecodedImage, decode_image, image_dimensions};
 use crate::scene::{MagFilter, Material, Texture, TextureRef, WrapMode};
 use glam::{Affine2, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -38,7 +39,24 @@ pub fn load(
                        channel: &str,
                        material: &str| {
         let info = info?;
-        let transform = info.texture_transform();
+        let mut transform = info.texture_transform();
+        if let Some(t) = &transform {
+            let values = [
+                t.offset()[0],
+                t.offset()[1],
+                t.rotation(),
+                t.scale()[0],
+                t.scale()[1],
+            ];
+            if !values.iter().all(|v| v.is_finite() && v.abs() <= 1e9) {
+                warnings.push(format!(
+                    "{}: {material}: {channel} texture's KHR_texture_transform has non-finite or absurd \
+                     values {values:?}; the transform is ignored",
+                    origin.file.display()
+                ));
+                transform = None;
+            }
+        }
         let texcoord = transform
             .as_ref()
             .and_then(|t| t.tex_coord())
@@ -70,6 +88,8 @@ pub fn load(
     };
 
     let mut materials = Vec::with_capacity(document.materials().len());
+    // Clamping warnings, merged after `request` (which holds `warnings`) is done.
+    let mut clamped = Vec::new();
     for material in document.materials() {
         let label = match (material.index(), material.name()) {
             (Some(i), Some(name)) => format!("material {i} \"{name}\""),
@@ -77,21 +97,53 @@ pub fn load(
             (None, _) => "default material".to_string(),
         };
         let pbr = material.pbr_metallic_roughness();
-        let emissive_strength = material.emissive_strength().unwrap_or(1.0);
+        let mut factor = |value: f32, lo: f32, hi: f32, name: &str| {
+            limits::clamp_factor(
+                value,
+                lo,
+                hi,
+                &format!("{label}: {name}"),
+                origin,
+                &mut clamped,
+            )
+        };
+        // glTF bounds these factors to [0, 1]; a file outside (1e39 parses as +inf) would
+        // otherwise put inf or NaN into the film.
+        let base = pbr.base_color_factor();
+        let base_color = Vec4::new(
+            factor(base[0], 0.0, 1.0, "baseColorFactor[0]"),
+            factor(base[1], 0.0, 1.0, "baseColorFactor[1]"),
+            factor(base[2], 0.0, 1.0, "baseColorFactor[2]"),
+            factor(base[3], 0.0, 1.0, "baseColorFactor[3]"),
+        );
+        let metallic = factor(pbr.metallic_factor(), 0.0, 1.0, "metallicFactor");
+        let roughness = factor(pbr.roughness_factor(), 0.0, 1.0, "roughnessFactor");
+        let e = material.emissive_factor();
+        let emissive_factor = Vec3::new(
+            factor(e[0], 0.0, 1.0, "emissiveFactor[0]"),
+            factor(e[1], 0.0, 1.0, "emissiveFactor[1]"),
+            factor(e[2], 0.0, 1.0, "emissiveFactor[2]"),
+        );
+        let emissive_strength = factor(
+            material.emissive_strength().unwrap_or(1.0),
+            0.0,
+            MAX_EMISSION,
+            "emissiveStrength",
+        );
         materials.push(Material {
             name: material
                 .name()
                 .map_or_else(|| label.clone(), str::to_string),
-            base_color: Vec4::from(pbr.base_color_factor()),
+            base_color,
             base_color_texture: request(
                 pbr.base_color_texture(),
                 ColorSpace::Srgb,
                 "base colour",
                 &label,
             ),
-            metallic: pbr.metallic_factor(),
-            roughness: pbr.roughness_factor(),
-            emissive: Vec3::from(material.emissive_factor()) * emissive_strength,
+            metallic,
+            roughness,
+            emissive: emissive_factor * emissive_strength,
             emissive_texture: request(
                 material.emissive_texture(),
                 ColorSpace::Srgb,
@@ -112,6 +164,7 @@ pub fn load(
         });
     }
 
+    warnings.extend(clamped);
     let textures = decode_textures(document, buffers, &keys, origin)?;
     Ok(Materials {
         materials,
@@ -173,12 +226,32 @@ fn decode_textures(
         };
         encoded.insert(image_index, (label, bytes));
     }
+    // Sizes from the headers, against the budgets, before anything is decoded.
+    let mut total_pixels: u64 = 0;
+    for &(image_index, _) in &image_keys {
+        // Every image key's bytes were read above (or the load already failed).
+        let (label, bytes) = &encoded[&image_index];
+        let pixels = check_image_size(bytes, label, origin)?;
+        total_pixels = total_pixels.saturating_add(pixels);
+        let budget = origin.options.max_total_texture_pixels();
+        if total_pixels > budget {
+            return Err(LoadError::Texture {
+                path: origin.file.to_path_buf(),
+                image: label.clone(),
+                message: format!(
+                    "the scene's textures add up to more than {budget} texels (4 × --max-texture-pixels); \
+                     raise --max-texture-pixels or downscale the textures"
+                ),
+            });
+        }
+    }
+    let max_pixels = origin.options.max_texture_pixels;
     let decoded: Vec<((usize, ColorSpace), DecodedImage)> = image_keys
         .par_iter()
         .map(|&(image_index, space)| {
             // Every image key's bytes were read above (or the load already failed).
             let (label, bytes) = &encoded[&image_index];
-            decode_image(bytes, space)
+            decode_image(bytes, space, max_pixels)
                 .map(|image| ((image_index, space), image))
                 .map_err(|err| LoadError::Texture {
                     path: origin.file.to_path_buf(),
@@ -211,6 +284,25 @@ fn decode_textures(
             }
         })
         .collect())
+}
+
+/// The image's texel count from its header, refused when over `--max-texture-pixels`.
+fn check_image_size(bytes: &[u8], label: &str, origin: Origin<'_>) -> Result<u64, LoadError> {
+    let fail = |message: String| LoadError::Texture {
+        path: origin.file.to_path_buf(),
+        image: label.to_string(),
+        message,
+    };
+    let (width, height) = image_dimensions(bytes).map_err(|err| fail(err.to_string()))?;
+    let pixels = u64::from(width) * u64::from(height);
+    let max = origin.options.max_texture_pixels;
+    if pixels > max {
+        return Err(fail(format!(
+            "it is {width}×{height} = {pixels} texels, over the budget of {max} \
+             (raise it with --max-texture-pixels {pixels}, or downscale the image)"
+        )));
+    }
+    Ok(pixels)
 }
 
 fn image_label(image: &::gltf::Image<'_>) -> String {

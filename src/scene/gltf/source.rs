@@ -39,6 +39,8 @@ pub struct Origin<'a> {
     pub file: &'a Path,
     /// The folder relative URIs resolve against; `None` forbids external files.
     pub base_dir: Option<&'a Path>,
+    /// The asset root and size budgets.
+    pub options: &'a super::LoadOptions,
 }
 
 impl Origin<'_> {
@@ -81,6 +83,7 @@ pub fn parse(
         })?;
     let mut root = document.into_json();
     check_extensions(&root, origin, warnings)?;
+    super::validate::check_unwrapped_members(&root, origin)?;
     super::webp::use_webp_sources(&mut root);
     // glint decodes these itself; the `gltf` crate's validator would refuse them as
     // required extensions it does not know.
@@ -324,16 +327,89 @@ pub fn read_uri<'u>(
             format!("refers to \"{uri}\", whose %-escapes are not UTF-8; fix the URI"),
         )
     })?;
+    let refuse = |problem: String| origin.data(what, format!("refers to \"{uri}\": {problem}"));
+    if Path::new(relative.as_ref()).is_absolute() {
+        return Err(refuse(
+            "absolute paths are refused; make the URI relative to the scene's folder".into(),
+        ));
+    }
     let resolved: PathBuf = base_dir.join(relative.as_ref());
-    std::fs::read(&resolved)
-        .map(Cow::Owned)
-        .map_err(|source| LoadError::MissingFile {
-            path: origin.file.to_path_buf(),
-            what: what.to_string(),
-            uri: uri.to_string(),
-            resolved,
-            source,
+    let missing = |source: std::io::Error| LoadError::MissingFile {
+        path: origin.file.to_path_buf(),
+        what: what.to_string(),
+        uri: uri.to_string(),
+        resolved: resolved.clone(),
+        source,
+    };
+    if let Some(root) = &origin.options.asset_root {
+        let root = root.canonicalize().map_err(|err| {
+            refuse(format!(
+                "the asset root {} cannot be resolved: {err}",
+                root.display()
+            ))
+        })?;
+        let real = resolved.canonicalize().map_err(missing)?;
+        if !real.starts_with(&root) {
+            return Err(refuse(format!(
+                "it resolves to {}, outside the asset root {} (move the file under the root or \
+                 widen --asset-root)",
+                real.display(),
+                root.display()
+            )));
+        }
+    }
+    read_regular_file(&resolved)
+        .map_err(|err| match err {
+            FileError::Io(source) => missing(source),
+            FileError::NotRegular(kind) => refuse(format!(
+                "{} is {kind}, not a regular file; only regular files are read",
+                resolved.display()
+            )),
         })
+        .map(Cow::Owned)
+}
+
+/// Why [`read_regular_file`] failed.
+pub enum FileError {
+    /// The operating system's error.
+    Io(std::io::Error),
+    /// The path names a device, FIFO, socket or folder (described).
+    NotRegular(&'static str),
+}
+
+/// Reads a regular file whole, refusing anything else without blocking: the type is checked
+/// with `stat` before opening (opening a FIFO would block until a writer appears, and a
+/// device such as /dev/zero never ends), and again on the opened handle, whose length then
+/// bounds the read.
+pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, FileError> {
+    use std::io::Read as _;
+    let kind = |meta: &std::fs::Metadata| {
+        let ty = meta.file_type();
+        if ty.is_file() {
+            None
+        } else if ty.is_dir() {
+            Some("a folder")
+        } else {
+            Some("a device, FIFO or socket")
+        }
+    };
+    let meta = std::fs::metadata(path).map_err(FileError::Io)?;
+    if let Some(kind) = kind(&meta) {
+        return Err(FileError::NotRegular(kind));
+    }
+    let file = std::fs::File::open(path).map_err(FileError::Io)?;
+    let meta = file.metadata().map_err(FileError::Io)?;
+    if let Some(kind) = kind(&meta) {
+        return Err(FileError::NotRegular(kind));
+    }
+    // The length of a regular file bounds the allocation; `take` bounds the read should the
+    // file grow meanwhile.
+    let length = meta.len();
+    let mut bytes = Vec::new();
+    file.take(length)
+        .read_to_end(&mut bytes)
+        .map_err(FileError::Io)?;
+    Ok(bytes)
 }
 
 /// The bytes of a buffer view, checked against its buffer.

@@ -67,9 +67,11 @@ mod tests {
 
     #[test]
     fn every_missing_extension_is_named_on_one_line() {
+        let options = crate::scene::gltf::LoadOptions::default();
         let origin = Origin {
             file: Path::new("x.glb"),
             base_dir: None,
+            options: &options,
         };
         let message = error(
             &[

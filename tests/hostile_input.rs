@@ -1,0 +1,419 @@
+//! Regression tests for hostile input (issue 11), through the `glint render` binary: each
+//! input gives one error line naming the file and the item, a non-zero exit and no output
+//! file; or, where a value is clamped, a render without inf or NaN.
+
+mod gltf_fixture;
+#[path = "mutate/mod.rs"]
+mod mutate;
+
+use gltf_fixture::{Fixture, TempDir, data_uri, png};
+use serde_json::{Value, json};
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// A one-triangle scene with `extra` merged into the document's top level.
+fn triangle_doc(positions: &[[f32; 3]], extra: Value) -> Value {
+    let mut f = Fixture::new();
+    let pos = f.positions(positions);
+    let idx = f.indices_u16(&[0, 1, 2]);
+    let mut doc = f.document(json!({
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}, "indices": idx}]}]
+    }));
+    if let (Some(doc), Some(extra)) = (doc.as_object_mut(), extra.as_object()) {
+        for (k, v) in extra {
+            doc.insert(k.clone(), v.clone());
+        }
+    }
+    doc
+}
+
+const TRIANGLE: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+fn glint(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run glint")
+}
+
+/// Renders `file` (in `dir`) with `extra` options and checks the failure contract: non-zero
+/// exit, no panic, one line naming the file and containing each of `expected`, no output or
+/// temporary file.
+fn render_fails(dir: &Path, file: &str, extra: &[&str], expected: &[&str]) {
+    let mut args = vec![
+        "render", "--quiet", "--width", "16", "--height", "16", "--spp", "1", "-o", "out.png",
+    ];
+    args.extend_from_slice(extra);
+    args.push(file);
+    let out = glint(dir, &args);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(
+        !out.status.success(),
+        "{file}: exit status {:?}",
+        out.status
+    );
+    assert!(
+        out.status.code().is_some(),
+        "{file}: killed by a signal: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{file}: panic: {stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{file}: expected one line, got: {stderr}");
+    assert!(
+        lines[0].contains(file),
+        "{file}: error does not name the file: {stderr}"
+    );
+    for e in expected {
+        assert!(
+            lines[0].contains(e),
+            "{file}: error lacks \"{e}\": {stderr}"
+        );
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(dir)
+        .expect("list")
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .filter(|n| n.starts_with("out") || n.contains(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{file}: left {leftovers:?}");
+}
+
+fn write_json(dir: &TempDir, name: &str, doc: &Value) {
+    dir.write(name, serde_json::to_string(doc).expect("json").as_bytes());
+}
+
+#[test]
+fn camera_without_its_projection_object() {
+    let dir = TempDir::new("hostile-camera");
+    let mut doc = triangle_doc(&TRIANGLE, json!({"cameras": [{"type": "perspective"}]}));
+    doc["nodes"] = json!([{"mesh": 0}, {"camera": 0, "translation": [0, 0, 3]}]);
+    doc["scenes"] = json!([{"nodes": [0, 1]}]);
+    write_json(&dir, "camera.gltf", &doc);
+    render_fails(dir.path(), "camera.gltf", &[], &["camera 0", "perspective"]);
+}
+
+#[test]
+fn images_without_mime_type_or_source() {
+    let dir = TempDir::new("hostile-image");
+    let texel = png(1, 1, &[255, 0, 0, 255]);
+    let mut fixture = Fixture::new();
+    let pos = fixture.positions(&TRIANGLE);
+    let uv = fixture.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2", 2);
+    let view = fixture.view(&texel);
+    let rest = |image: Value| {
+        json!({
+            "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "TEXCOORD_0": uv}, "material": 0}]}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+            "textures": [{"source": 0}],
+            "images": [image]
+        })
+    };
+    // A GLB whose image lives in a buffer view but has no mimeType.
+    let mut doc = fixture.document(rest(json!({"bufferView": view})));
+    doc["buffers"] = json!([{"byteLength": fixture.bin.len()}]);
+    let glb = mutate::glb(
+        serde_json::to_string(&doc).expect("json").as_bytes(),
+        Some(&fixture.bin),
+    );
+    dir.write("no-mime.glb", &glb);
+    render_fails(dir.path(), "no-mime.glb", &[], &["image 0", "mimeType"]);
+    // An image with neither uri nor bufferView.
+    write_json(
+        &dir,
+        "no-source.gltf",
+        &fixture.document(rest(json!({"name": "x"}))),
+    );
+    render_fails(dir.path(), "no-source.gltf", &[], &["image 0", "neither"]);
+}
+
+/// A node at 1e30, and a node scaled by 1e30, are refused on both backends before any ray is
+/// traced (Embree used to abort on the rays, obvhs to index out of bounds in its build).
+#[test]
+fn huge_node_translation_and_scale_on_both_backends() {
+    let dir = TempDir::new("hostile-huge");
+    let mut far = triangle_doc(&TRIANGLE, json!({}));
+    far["nodes"][0]["translation"] = json!([1e30, 0, 0]);
+    write_json(&dir, "far.gltf", &far);
+    let mut scaled = triangle_doc(&TRIANGLE, json!({}));
+    scaled["nodes"][0]["scale"] = json!([1e30, 1e30, 1e30]);
+    write_json(&dir, "scaled.gltf", &scaled);
+    let mut camera = triangle_doc(
+        &TRIANGLE,
+        json!({"cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]}),
+    );
+    camera["nodes"] = json!([{"mesh": 0}, {"camera": 0, "translation": [0, 0, 1e30]}]);
+    camera["scenes"] = json!([{"nodes": [0, 1]}]);
+    write_json(&dir, "far-camera.gltf", &camera);
+    for backend in glint::accel::BackendKind::available() {
+        let b = ["--backend", backend.name()];
+        render_fails(dir.path(), "far.gltf", &b, &["node 0", "precision"]);
+        render_fails(dir.path(), "scaled.gltf", &b, &["node 0", "precision"]);
+        render_fails(dir.path(), "far-camera.gltf", &b, &["camera", "precision"]);
+    }
+}
+
+/// Zeroed geometry (200 000 triangles at the origin) builds on obvhs and renders: the
+/// zero-area triangles stay out of its tree (the build used to take 9–20 s). A hang would
+/// show as the test harness's timeout, not as a timing assertion.
+#[test]
+fn zeroed_geometry_on_obvhs() {
+    let positions = vec![glam::Vec3::ZERO; 3];
+    let indices = vec![[0u32, 1, 2]; 200_000];
+    let mesh = glint::accel::TriangleMesh {
+        positions: &positions,
+        indices: &indices,
+    };
+    let accel = glint::accel::build(glint::accel::BackendKind::Bvh, &[mesh], Default::default())
+        .expect("zeroed geometry builds");
+    assert_eq!(accel.triangle_count(), 200_000);
+    let ray = glint::accel::Ray::new(glam::Vec3::new(0.0, 0.0, 1.0), glam::Vec3::NEG_Z);
+    assert!(accel.intersect(&ray).is_none());
+    assert!(!accel.occluded(&ray));
+}
+
+/// CRC-32 (ISO-HDLC) for hand-made PNG chunks.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+/// A PNG header of `width`×`height` 1-bit grey texels followed by a short IDAT: enough for
+/// the header check, which must refuse it before any texel memory is allocated.
+fn huge_png(width: u32, height: u32) -> Vec<u8> {
+    let chunk = |out: &mut Vec<u8>, ty: &[u8], data: &[u8]| {
+        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let mut body = ty.to_vec();
+        body.extend_from_slice(data);
+        out.extend_from_slice(&body);
+        out.extend_from_slice(&crc32(&body).to_be_bytes());
+    };
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(&width.to_be_bytes());
+    ihdr.extend_from_slice(&height.to_be_bytes());
+    ihdr.extend_from_slice(&[1, 0, 0, 0, 0]);
+    chunk(&mut out, b"IHDR", &ihdr);
+    chunk(&mut out, b"IDAT", &[0x78, 0x01, 0x03, 0x00]);
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+#[test]
+fn texture_over_the_pixel_budget() {
+    let dir = TempDir::new("hostile-png");
+    let mut fixture = Fixture::new();
+    let pos = fixture.positions(&TRIANGLE);
+    let uv = fixture.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2", 2);
+    let doc = fixture.document(json!({
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "TEXCOORD_0": uv}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": data_uri("image/png", &huge_png(20000, 20000))}]
+    }));
+    write_json(&dir, "huge-png.gltf", &doc);
+    render_fails(
+        dir.path(),
+        "huge-png.gltf",
+        &[],
+        &["image 0", "20000×20000", "--max-texture-pixels"],
+    );
+    // A lower budget refuses a small image too, and names the option.
+    let small = fixture.document(json!({
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "TEXCOORD_0": uv}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": data_uri("image/png", &png(4, 4, &[128; 64]))}]
+    }));
+    write_json(&dir, "small-png.gltf", &small);
+    render_fails(
+        dir.path(),
+        "small-png.gltf",
+        &["--max-texture-pixels", "15"],
+        &["image 0", "--max-texture-pixels 16"],
+    );
+}
+
+fn buffer_uri_doc(uri: &str) -> Value {
+    let mut doc = triangle_doc(&TRIANGLE, json!({}));
+    doc["buffers"][0]["uri"] = json!(uri);
+    doc
+}
+
+#[test]
+fn device_fifo_and_absolute_uris_are_refused_without_blocking() {
+    let dir = TempDir::new("hostile-uri");
+    write_json(
+        &dir,
+        "zero.gltf",
+        &buffer_uri_doc("../../../../../../../../dev/zero"),
+    );
+    render_fails(
+        dir.path(),
+        "zero.gltf",
+        &[],
+        &["buffer 0", "not a regular file"],
+    );
+    write_json(&dir, "absolute.gltf", &buffer_uri_doc("/etc/passwd"));
+    render_fails(dir.path(), "absolute.gltf", &[], &["buffer 0", "absolute"]);
+    let fifo = dir.path().join("pipe.bin");
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("run mkfifo");
+    assert!(made.success(), "mkfifo failed");
+    write_json(&dir, "fifo.gltf", &buffer_uri_doc("pipe.bin"));
+    render_fails(
+        dir.path(),
+        "fifo.gltf",
+        &[],
+        &["buffer 0", "not a regular file"],
+    );
+    std::fs::remove_file(&fifo).expect("remove fifo");
+    // The scene file itself may not be a device either.
+    let out = glint(
+        dir.path(),
+        &["render", "--quiet", "-o", "out.png", "/dev/zero"],
+    );
+    assert!(!out.status.success() && out.status.code().is_some());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a regular file"));
+}
+
+#[test]
+fn uris_outside_the_asset_root() {
+    let dir = TempDir::new("hostile-root");
+    std::fs::create_dir_all(dir.path().join("root")).expect("mkdir");
+    let good = triangle_doc(&TRIANGLE, json!({}));
+    let uri = good["buffers"][0]["uri"]
+        .as_str()
+        .expect("data uri")
+        .to_string();
+    let bytes = base64::Engine::decode(
+        &base64::engine::general_purpose::STANDARD,
+        uri.split_once(";base64,").expect("base64").1,
+    )
+    .expect("decode");
+    dir.write("elsewhere.bin", &bytes);
+    dir.write("root/inside.bin", &bytes);
+    write_json(
+        &dir,
+        "root/escape.gltf",
+        &buffer_uri_doc("../elsewhere.bin"),
+    );
+    write_json(
+        &dir,
+        "root/escape-pct.gltf",
+        &buffer_uri_doc("..%2Felsewhere.bin"),
+    );
+    write_json(&dir, "root/inside.gltf", &buffer_uri_doc("inside.bin"));
+    let root = ["--asset-root", "root"];
+    render_fails(
+        dir.path(),
+        "root/escape.gltf",
+        &root,
+        &["buffer 0", "../elsewhere.bin", "outside the asset root"],
+    );
+    render_fails(
+        dir.path(),
+        "root/escape-pct.gltf",
+        &root,
+        &["buffer 0", "outside the asset root"],
+    );
+    // Inside the root it loads; without a root, relative `../` still resolves.
+    for (file, args) in [
+        ("root/inside.gltf", &root[..]),
+        ("root/escape.gltf", &[][..]),
+    ] {
+        let mut a = vec![
+            "render", "--quiet", "--width", "8", "--height", "8", "--spp", "1", "-o", "ok.png",
+        ];
+        a.extend_from_slice(args);
+        a.push(file);
+        let out = glint(dir.path(), &a);
+        assert!(
+            out.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// A material factor of 1e39 (+inf as f32) is clamped with a warning; the render holds no
+/// inf or NaN.
+#[test]
+fn overflowing_material_factor_is_clamped() {
+    let dir = TempDir::new("hostile-factor");
+    let mut doc = triangle_doc(&TRIANGLE, json!({}));
+    doc["materials"] = json!([{"emissiveFactor": [1e39, 1, 1], "pbrMetallicRoughness": {"baseColorFactor": [1e39, 0.5, 0.5, 1]}}]);
+    doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+    write_json(&dir, "factor.gltf", &doc);
+    let out = glint(
+        dir.path(),
+        &[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--spp",
+            "2",
+            "-o",
+            "out.exr",
+            "factor.gltf",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("clamped"), "no clamping warning: {stderr}");
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        dir.path().join("out.exr"),
+        |size, _| vec![[0.0f32; 4]; size.width() * size.height()],
+        |pixels: &mut Vec<[f32; 4]>, pos, (r, g, b, a): (f32, f32, f32, f32)| {
+            pixels[pos.y() * 16 + pos.x()] = [r, g, b, a];
+        },
+    )
+    .expect("read exr");
+    let pixels = &image.layer_data.channel_data.pixels;
+    assert!(
+        pixels.iter().flatten().all(|c| c.is_finite()),
+        "inf or NaN pixels"
+    );
+    assert!(
+        pixels.iter().any(|p| p[0] > 0.0),
+        "the emitter is not visible"
+    );
+}
+
+#[test]
+fn spp_and_size_upper_bounds() {
+    let dir = TempDir::new("hostile-spp");
+    for args in [
+        &["render", "--quiet", "--spp", "4294967295", "-o", "out.png"][..],
+        &["render", "--quiet", "--width", "100000", "-o", "out.png"][..],
+        &[
+            "render", "--quiet", "--width", "60000", "--height", "60000", "-o", "out.png",
+        ][..],
+    ] {
+        let out = glint(dir.path(), args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} accepted");
+        assert!(stderr.contains("limit"), "{args:?}: {stderr}");
+        assert!(!dir.path().join("out.png").exists());
+    }
+}
