@@ -45,8 +45,8 @@ fn hash_file(path: &Path) -> u64 {
 /// `--integrator direct`. The scenes with emissive surfaces (demo, DamagedHelmet) were
 /// re-recorded when the direct integrator began sampling them as area lights (issue 12).
 const EXPECTED: &[(&str, u64)] = &[
-    ("demo/embree/png", 0x77340e656d4275e2), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/embree/exr", 0x5e35fd1c0c20c8ba), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/png", 0x56aa363059c99b94), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/exr", 0x8a6f904e547b0690), // re-recorded: direct light from emissive surfaces (issue 12)
     ("BoxTextured/embree/png", 0x993457117cb6631a),
     ("BoxTextured/embree/exr", 0xbad31c66443d6c52),
     ("Cameras/embree/png", 0x84f471709c84416f),
@@ -57,12 +57,12 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/embree/exr", 0x89f9999d8ddc7380), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/embree/exr", 0x7ba944f7b63e8c7a),
-    ("demo/embree/partial", 0x0fa49c2476e2d3e9), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/embree/progressive", 0xc43f6c84bc263516), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/embree/photometric", 0x5b70892dfe70e13d), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/partial", 0xe0d3a2f309b5c479), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/progressive", 0xca818b3cb6735f12), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/photometric", 0x9ed83b2cdf01abdc), // re-recorded: direct light from emissive surfaces (issue 12)
     ("batch/embree", 0x15cac39747a5ecf4),
-    ("demo/bvh/png", 0x77340e656d4275e2), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/bvh/exr", 0x8e80925540bf9350), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/png", 0x56aa363059c99b94), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/exr", 0x0d45ed470d44e283), // re-recorded: direct light from emissive surfaces (issue 12)
     ("BoxTextured/bvh/png", 0x993457117cb6631a),
     ("BoxTextured/bvh/exr", 0x4db0600baa4b3119),
     ("Cameras/bvh/png", 0x84f471709c84416f),
@@ -73,9 +73,9 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/bvh/exr", 0x58eeeb2667be1fbf), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/bvh/exr", 0x26616c4e1be72457),
-    ("demo/bvh/partial", 0x5d3bf03bb8031d97), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/bvh/progressive", 0x2dfdb8c4299d7835), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/bvh/photometric", 0xcf6ba62e8dad4d6c), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/partial", 0x2d03021458abd60d), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/progressive", 0xa67f07fa726b4639), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/photometric", 0x96c98a9761586438), // re-recorded: direct light from emissive surfaces (issue 12)
     ("batch/bvh", 0xdec74506be8a6a9d),
 ];
 

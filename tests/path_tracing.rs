@@ -13,9 +13,7 @@ mod render_support;
 use glam::{Vec3, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
 use glint::light::environment::EnvironmentLight;
-use glint::render::{
-    self, Integrator, LightStrategy, PixelSampling, RenderInputs, RenderSettings,
-};
+use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderInputs, RenderSettings};
 use glint::scene::{Camera, Material, Mesh, Scene};
 use render_support::{look_at, ortho, quad, scene};
 
@@ -158,7 +156,14 @@ fn white_furnace_open_box_is_uniform() {
     );
     let env = EnvironmentLight::constant(Vec3::splat(l));
     for &backend in BackendKind::available() {
-        let est = estimate(&scene, &camera, Some(&env), backend, &settings(8, 256, 0), 16);
+        let est = estimate(
+            &scene,
+            &camera,
+            Some(&env),
+            backend,
+            &settings(8, 256, 0),
+            16,
+        );
         assert_matches(&format!("furnace ({backend})"), &est, l as f64, 5e-2, 5e-3);
     }
 }
@@ -188,7 +193,13 @@ fn lambert_plane_under_uniform_environment_reflects_rho_l() {
             ..settings(6, 64, 0)
         };
         let est = estimate(&scene, &camera, Some(&env), BackendKind::default(), &s, 16);
-        assert_matches(&format!("{strategy:?} {integrator}"), &est, want, 3e-2, 5e-3);
+        assert_matches(
+            &format!("{strategy:?} {integrator}"),
+            &est,
+            want,
+            3e-2,
+            5e-3,
+        );
     }
 }
 

@@ -212,7 +212,10 @@ mod tests {
         }
         let mean = sum / n as f32;
         let total = b.diffuse + b.mirror;
-        assert!((mean - total).abs().max_element() < 5e-3, "{mean} vs {total}");
+        assert!(
+            (mean - total).abs().max_element() < 5e-3,
+            "{mean} vs {total}"
+        );
     }
 
     #[test]

@@ -77,10 +77,8 @@ impl SceneSource {
     ) -> Result<Scene, LoadError> {
         match self {
             SceneSource::Demo => crate::scene::demo::demo_scene(),
-            SceneSource::File(path) => {
-                crate::scene::gltf::load_full(path, selection, options)
-                    .map(crate::scene::gltf::print_warnings)
-            }
+            SceneSource::File(path) => crate::scene::gltf::load_full(path, selection, options)
+                .map(crate::scene::gltf::print_warnings),
         }
     }
 }
@@ -741,7 +739,9 @@ mod tests {
             backend: BackendKind::Bvh,
             ..Job::default()
         };
-        let prepared = PreparedScene::load(&job.scene, &job.selection, &job.load_options, job.backend).unwrap();
+        let prepared =
+            PreparedScene::load(&job.scene, &job.selection, &job.load_options, job.backend)
+                .unwrap();
         let notes = std::sync::Mutex::new(Vec::new());
         let done = run(&job, &prepared, None, None, &|n| {
             notes.lock().unwrap().push(n)

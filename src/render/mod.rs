@@ -292,7 +292,11 @@ pub fn build_area_lights(scene: &Scene) -> Result<crate::light::area::AreaLights
     let emitters: usize = scene
         .meshes
         .iter()
-        .filter(|m| mean_le.get(m.material).is_some_and(|le| *le != glam::Vec3::ZERO))
+        .filter(|m| {
+            mean_le
+                .get(m.material)
+                .is_some_and(|le| *le != glam::Vec3::ZERO)
+        })
         .map(|m| m.indices.len())
         .sum();
     let mode = if emitters >= LIGHT_BVH_MIN_EMITTERS {

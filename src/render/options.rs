@@ -4,7 +4,9 @@
 
 use crate::accel::BackendKind;
 use crate::light::LightUnits;
-use crate::render::job::{CameraChoice, EnvironmentSource, LightSource, OutputSpec, Samples, SceneSource};
+use crate::render::job::{
+    CameraChoice, EnvironmentSource, LightSource, OutputSpec, Samples, SceneSource,
+};
 use crate::render::{self, AovSelection, Job, JobError, RenderSettings};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -128,7 +130,12 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1.0, value_name = "S")]
     pub env_strength: f32,
     /// Rotation of --env about +Y, degrees (right-handed).
-    #[arg(long, default_value_t = 0.0, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "DEG",
+        allow_negative_numbers = true
+    )]
     pub env_rotation: f32,
     /// A uniform environment of radiance R,G,B (W/(m²·sr)).
     #[arg(long, value_name = "R,G,B", value_delimiter = ',', num_args = 1)]
@@ -194,8 +201,9 @@ impl RenderArgs {
             },
             (None, None) => None,
         };
-        if !(self.env_strength.is_finite() && self.env_strength >= 0.0)
-            || !self.env_rotation.is_finite()
+        if !(self.env_strength.is_finite()
+            && self.env_strength >= 0.0
+            && self.env_rotation.is_finite())
         {
             return Err(JobError::Options(format!(
                 "--env-strength {} / --env-rotation {}: give finite numbers (strength ≥ 0)",

@@ -29,13 +29,13 @@
 //! A light sample or a BSDF sample below the geometric horizon of the surface (the side the
 //! ray arrived from) is dropped: shading normals never let light through the surface.
 
+use super::LightStrategy;
 use super::camera::CameraRays;
 use super::film::TileSums;
 use super::integrator::{Footprint, Pass, Scratch, TileContext, procedural_value, texture_value};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use super::tiles::Tile;
-use super::LightStrategy;
 use crate::accel::{Coherence, Hit, Ray};
 use crate::bsdf::{Bsdf, Frame};
 use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_to};
