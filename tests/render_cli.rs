@@ -177,6 +177,8 @@ fn renders_png_with_the_camera_aspect_and_reports_on_stderr() {
             "--width",
             "64",
             "--png16",
+            "--integrator",
+            "direct",
         ],
         dir.path(),
     );
@@ -188,6 +190,26 @@ fn renders_png_with_the_camera_aspect_and_reports_on_stderr() {
     );
     assert!(
         message.contains("no mirrors: no reflection rays"),
+        "{message}"
+    );
+    // The path tracer says which light sampling the scene did not need.
+    let path = glint(
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            "path.png",
+            "--width",
+            "16",
+        ],
+        dir.path(),
+    );
+    assert!(path.status.success(), "{}", stderr(&path));
+    let message = stderr(&path);
+    assert!(
+        message.contains("bounce rays")
+            && message.contains("no emitters: no area-light sampling")
+            && message.contains("no environment: no environment sampling"),
         "{message}"
     );
     let png = image::open(dir.path().join("quad.png")).unwrap();

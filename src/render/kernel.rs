@@ -41,6 +41,13 @@ pub struct KernelFlags {
     pub shading_normals: bool,
     /// Loops over lights per type (false: one run-time typed list).
     pub typed_lights: bool,
+    /// The path kernel runs (path tracing, or direct light with area or environment lights):
+    /// set by the scheduler once it knows the render's lights.
+    pub path: bool,
+    /// Area lights are sampled (the scene has emissive triangles; path kernel only).
+    pub area_lights: bool,
+    /// The environment is sampled (path kernel only).
+    pub environment: bool,
 }
 
 impl KernelFlags {
@@ -53,6 +60,9 @@ impl KernelFlags {
                 vertex_colors: features.vertex_colors,
                 shading_normals: features.shading_normals,
                 typed_lights: true,
+                path: false,
+                area_lights: false,
+                environment: false,
             },
             KernelChoice::General => Self {
                 textures: true,
@@ -60,6 +70,9 @@ impl KernelFlags {
                 vertex_colors: true,
                 shading_normals: true,
                 typed_lights: false,
+                path: false,
+                area_lights: false,
+                environment: false,
             },
         }
     }

@@ -112,6 +112,12 @@ impl<'a> TileScheduler<'a> {
         let path_kernel = settings.integrator == super::Integrator::Path
             || environment.is_some()
             || area_lights.is_some();
+        let flags = KernelFlags {
+            path: path_kernel,
+            area_lights: area_lights.is_some(),
+            environment: environment.is_some(),
+            ..flags
+        };
         let ctx = TileContext {
             scene,
             accel,

@@ -13,7 +13,7 @@ pub struct RayCounts {
     pub camera: u64,
     /// Shadow rays traced.
     pub shadow: u64,
-    /// Mirror reflection rays traced.
+    /// Mirror reflection rays traced (with the path kernel: every bounce ray).
     pub reflection: u64,
     /// Shadow rays not traced: the light is behind the surface (below the geometric or the
     /// shading horizon) or exactly at the shaded point.
@@ -80,7 +80,14 @@ impl RenderStats {
         if !k.textures {
             out.push("no textures: no texcoord interpolation");
         }
-        if !k.mirrors {
+        if k.path {
+            if !k.area_lights {
+                out.push("no emitters: no area-light sampling");
+            }
+            if !k.environment {
+                out.push("no environment: no environment sampling");
+            }
+        } else if !k.mirrors {
             out.push("no mirrors: no reflection rays");
         }
         if !k.vertex_colors {
@@ -104,12 +111,17 @@ impl RenderStats {
     pub fn summary(&self) -> String {
         let r = &self.rays;
         let mut line = format!(
-            "rendered in {:.2} s: {} camera + {} shadow + {} reflection rays, {:.1} Mrays/s; \
+            "rendered in {:.2} s: {} camera + {} shadow + {} {} rays, {:.1} Mrays/s; \
              skipped {} shadow rays ({} facing away, {} outside cone, {} beyond range)",
             self.elapsed.as_secs_f64(),
             r.camera,
             r.shadow,
             r.reflection,
+            if self.kernel.path {
+                "bounce"
+            } else {
+                "reflection"
+            },
             self.mrays_per_second(),
             r.skipped(),
             r.skipped_facing_away,
