@@ -19,6 +19,7 @@ fn args(out: std::path::PathBuf) -> ConvergeArgs {
         filters: vec![FilterSpec::default()],
         seed: 1,
         threads: 2,
+        integrator: glint::render::Integrator::Path,
         quiet: true,
     }
 }
@@ -43,6 +44,30 @@ fn writes_csv_and_plot_for_each_setting() {
     assert!(rows.iter().any(|r| r[0] == "bvh independent box:0.5"));
     let plot = image::open(out.join("converge.png")).expect("plot decodes");
     assert_eq!((plot.width(), plot.height()), glint::converge::PLOT_SIZE);
+}
+
+/// Both integrators converge: the error falls from 1 to 4 spp for each.
+#[test]
+fn both_integrators_are_measured() {
+    for integrator in [
+        glint::render::Integrator::Path,
+        glint::render::Integrator::Direct,
+    ] {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let out = dir.path().join("run");
+        let mut a = args(out.clone());
+        a.samplers = vec![PixelSampling::Independent];
+        a.integrator = integrator;
+        run(a).expect("converge");
+        let csv = std::fs::read_to_string(out.join("converge.csv")).expect("csv");
+        let rmse: Vec<f64> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(4).unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(rmse.len(), 3, "{csv}");
+        assert!(rmse[2] < rmse[0], "{integrator}: {csv}");
+    }
 }
 
 #[test]

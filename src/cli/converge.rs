@@ -51,6 +51,9 @@ pub struct ConvergeArgs {
     /// Worker threads; 0 uses every core.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Light transport measured: path or direct.
+    #[arg(long, value_enum, default_value_t = crate::render::Integrator::Path)]
+    pub integrator: crate::render::Integrator,
     /// Print nothing but errors and the slopes.
     #[arg(long, short)]
     pub quiet: bool,
@@ -101,6 +104,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
         width: args.width,
         height: args.height,
         threads: args.threads,
+        integrator: args.integrator,
         ..RenderSettings::default()
     };
 
