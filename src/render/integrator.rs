@@ -146,17 +146,9 @@ pub(crate) fn render_tile<
         s.diffs.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
-            // Offsets are from the pixel centre and may leave the pixel (wide filters).
-            let (offset, weight) = ctx.filter.sample(ctx.sampler.offset(x, y, sample));
-            let (fx, fy) = (x as f32 + 0.5 + offset.x, y as f32 + 0.5 + offset.y);
-            s.rays.push(ctx.camera.ray(fx, fy));
+            let (ray, weight) = camera_sample(ctx, x, y, sample, carry.then_some(&mut s.diffs));
+            s.rays.push(ray);
             s.weights.push(weight);
-            if carry {
-                s.diffs.push(
-                    ctx.camera
-                        .ray_differential(fx, fy, ctx.differential_spacing),
-                );
-            }
             s.paths.push(PathVertex {
                 pixel: local as u32,
                 throughput: Vec3::splat(weight),
@@ -166,19 +158,7 @@ pub(crate) fn render_tile<
         let mut depth = 0;
         while !s.rays.is_empty() {
             let primary = depth == 0;
-            let coherence = if primary {
-                Coherence::Coherent
-            } else {
-                Coherence::Incoherent
-            };
-            s.hits.clear();
-            s.hits.resize(s.rays.len(), None);
-            ctx.accel.intersect_many(&s.rays, &mut s.hits, coherence);
-            if primary {
-                counts.camera += s.rays.len() as u64;
-            } else {
-                counts.reflection += s.rays.len() as u64;
-            }
+            let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, &mut counts);
 
             s.points.clear();
             s.next_rays.clear();
@@ -226,18 +206,15 @@ pub(crate) fn render_tile<
                     add_shadow_rays(&lights.general, &s.points, batch);
                 }
             }
-            if !s.shadow_rays.is_empty() {
-                s.occluded.clear();
-                s.occluded.resize(s.shadow_rays.len(), true);
-                ctx.accel
-                    .occluded_many(&s.shadow_rays, &mut s.occluded, coherence);
-                counts.shadow += s.shadow_rays.len() as u64;
-                for (&(pixel, value), &blocked) in s.shadow_values.iter().zip(&s.occluded) {
-                    if !blocked {
-                        sums.pending[pixel as usize] += value;
-                    }
-                }
-            }
+            trace_shadows(
+                ctx,
+                &s.shadow_rays,
+                &s.shadow_values,
+                &mut s.occluded,
+                coherence,
+                &mut counts,
+                &mut sums,
+            );
 
             std::mem::swap(&mut s.rays, &mut s.next_rays);
             std::mem::swap(&mut s.paths, &mut s.next_paths);
@@ -247,6 +224,79 @@ pub(crate) fn render_tile<
         sums.end_sample(sample, &s.weights);
     }
     (sums, counts)
+}
+
+/// The camera ray of sample `sample` of pixel `(x, y)` and its filter weight; pushes the ray's
+/// differential to `diffs` when given. Offsets are from the pixel centre and may leave the
+/// pixel (wide filters).
+#[inline]
+pub(super) fn camera_sample(
+    ctx: &TileContext<'_>,
+    x: u32,
+    y: u32,
+    sample: u32,
+    diffs: Option<&mut Vec<RayDifferential>>,
+) -> (Ray, f32) {
+    let (offset, weight) = ctx.filter.sample(ctx.sampler.offset(x, y, sample));
+    let (fx, fy) = (x as f32 + 0.5 + offset.x, y as f32 + 0.5 + offset.y);
+    if let Some(diffs) = diffs {
+        diffs.push(
+            ctx.camera
+                .ray_differential(fx, fy, ctx.differential_spacing),
+        );
+    }
+    (ctx.camera.ray(fx, fy), weight)
+}
+
+/// Traces one batch of path rays: camera rays (`primary`) coherently, later rays
+/// incoherently, counted by kind. Returns the coherence used, for the batch's shadow rays.
+#[inline]
+pub(super) fn trace_batch(
+    ctx: &TileContext<'_>,
+    rays: &[Ray],
+    hits: &mut Vec<Option<Hit>>,
+    primary: bool,
+    counts: &mut RayCounts,
+) -> Coherence {
+    let coherence = if primary {
+        Coherence::Coherent
+    } else {
+        Coherence::Incoherent
+    };
+    hits.clear();
+    hits.resize(rays.len(), None);
+    ctx.accel.intersect_many(rays, hits, coherence);
+    if primary {
+        counts.camera += rays.len() as u64;
+    } else {
+        counts.reflection += rays.len() as u64;
+    }
+    coherence
+}
+
+/// Traces a batch of shadow rays and adds the value of each unblocked one to its pixel.
+#[inline]
+pub(super) fn trace_shadows(
+    ctx: &TileContext<'_>,
+    rays: &[Ray],
+    values: &[(u32, Vec3)],
+    occluded: &mut Vec<bool>,
+    coherence: Coherence,
+    counts: &mut RayCounts,
+    sums: &mut TileSums,
+) {
+    if rays.is_empty() {
+        return;
+    }
+    occluded.clear();
+    occluded.resize(rays.len(), true);
+    ctx.accel.occluded_many(rays, occluded, coherence);
+    counts.shadow += rays.len() as u64;
+    for (&(pixel, value), &blocked) in values.iter().zip(occluded.iter()) {
+        if !blocked {
+            sums.pending[pixel as usize] += value;
+        }
+    }
 }
 
 /// Shades one hit: records AOVs (camera rays), adds emission, queues the diffuse part for

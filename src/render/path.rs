@@ -30,13 +30,15 @@
 //! ray arrived from) is dropped: shading normals never let light through the surface.
 
 use super::LightStrategy;
-use super::camera::CameraRays;
 use super::film::TileSums;
-use super::integrator::{Footprint, Pass, Scratch, TileContext, procedural_value, texture_value};
+use super::integrator::{
+    Footprint, Pass, Scratch, TileContext, camera_sample, procedural_value, texture_value,
+    trace_batch, trace_shadows,
+};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use super::tiles::Tile;
-use crate::accel::{Coherence, Hit, Ray};
+use crate::accel::{Hit, Ray};
 use crate::bsdf::{Bsdf, Frame};
 use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_to};
 use crate::light::{Incident, PunctualLight, ShadowTarget};
@@ -119,17 +121,10 @@ pub(crate) fn render_tile_path<
         scratch.diffs.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
-            let (offset, weight) = ctx.filter.sample(ctx.sampler.offset(x, y, sample));
-            let (fx, fy) = (x as f32 + 0.5 + offset.x, y as f32 + 0.5 + offset.y);
-            let ray = camera_ray(&ctx.camera, fx, fy);
+            let (ray, weight) =
+                camera_sample(ctx, x, y, sample, carry.then_some(&mut scratch.diffs));
             s.rays.push(ray);
             s.weights.push(weight);
-            if carry {
-                scratch.diffs.push(
-                    ctx.camera
-                        .ray_differential(fx, fy, ctx.differential_spacing),
-                );
-            }
             s.paths.push(PathState {
                 pixel: local as u32,
                 beta: Vec3::splat(weight),
@@ -144,19 +139,7 @@ pub(crate) fn render_tile_path<
         let mut depth = 0;
         while !s.rays.is_empty() {
             let primary = depth == 0;
-            let coherence = if primary {
-                Coherence::Coherent
-            } else {
-                Coherence::Incoherent
-            };
-            s.hits.clear();
-            s.hits.resize(s.rays.len(), None);
-            ctx.accel.intersect_many(&s.rays, &mut s.hits, coherence);
-            if primary {
-                counts.camera += s.rays.len() as u64;
-            } else {
-                counts.reflection += s.rays.len() as u64;
-            }
+            let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, &mut counts);
             s.next_rays.clear();
             s.next_paths.clear();
             s.shadow_rays.clear();
@@ -192,18 +175,15 @@ pub(crate) fn render_tile_path<
                     },
                 );
             }
-            if !s.shadow_rays.is_empty() {
-                s.occluded.clear();
-                s.occluded.resize(s.shadow_rays.len(), true);
-                ctx.accel
-                    .occluded_many(&s.shadow_rays, &mut s.occluded, coherence);
-                counts.shadow += s.shadow_rays.len() as u64;
-                for (&(pixel, value), &blocked) in s.shadow_values.iter().zip(&s.occluded) {
-                    if !blocked {
-                        sums.pending[pixel as usize] += value;
-                    }
-                }
-            }
+            trace_shadows(
+                ctx,
+                &s.shadow_rays,
+                &s.shadow_values,
+                &mut s.occluded,
+                coherence,
+                &mut counts,
+                &mut sums,
+            );
             std::mem::swap(&mut s.rays, &mut s.next_rays);
             std::mem::swap(&mut s.paths, &mut s.next_paths);
             depth += 1;
@@ -211,11 +191,6 @@ pub(crate) fn render_tile_path<
         sums.end_sample(sample, &s.weights);
     }
     (sums, counts)
-}
-
-#[inline]
-fn camera_ray(camera: &CameraRays, fx: f32, fy: f32) -> Ray {
-    camera.ray(fx, fy)
 }
 
 /// A ray that left the scene: the environment's radiance, weighted against environment
