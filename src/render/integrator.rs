@@ -226,6 +226,61 @@ pub(crate) fn render_tile<
     (sums, counts)
 }
 
+/// Base colour ρ and emitted radiance Le at a hit, textures and vertex colours applied (the
+/// emissive texture is read only where the material emits).
+#[inline(always)]
+pub(super) fn surface_colors<const TEXTURES: bool, const VERTEX_COLORS: bool>(
+    ctx: &TileContext<'_>,
+    mesh: &Mesh,
+    si: &SurfaceInteraction,
+    footprint: Option<&Footprint>,
+    material: &ShadingMaterial,
+) -> (Vec3, Vec3) {
+    let mut albedo = material.base_color;
+    if VERTEX_COLORS && let Some(colors) = &mesh.colors {
+        albedo *= si.interpolate(colors).unwrap_or(Vec4::ONE).truncate();
+    }
+    let mut emission = material.emissive;
+    if TEXTURES {
+        if let Some(t) = &material.base_color_texture {
+            albedo *= texture_value(ctx, mesh, si, footprint, t).truncate();
+        }
+        if emission != Vec3::ZERO
+            && let Some(t) = &material.emissive_texture
+        {
+            emission *= texture_value(ctx, mesh, si, footprint, t).truncate();
+        }
+        if let Some(procedural) = &material.procedural {
+            albedo *= procedural_value(ctx, mesh, si, footprint, procedural);
+        }
+    }
+    (albedo, emission)
+}
+
+/// Adds a camera ray's first hit to the AOV sums it has (weighted by the sample's filter
+/// weight `w`): albedo (0 on unlit back faces), shading normal, and distance (camera ray
+/// directions are unit, so `t` is the distance).
+#[inline]
+pub(super) fn record_first_hit(
+    sums: &mut TileSums,
+    pixel: usize,
+    w: f32,
+    lit: bool,
+    albedo: Vec3,
+    ns: Vec3,
+    t: f32,
+) {
+    if let Some(a) = sums.albedo.get_mut(pixel) {
+        *a += if lit { w * albedo } else { Vec3::ZERO };
+    }
+    if let Some(n) = sums.normal.get_mut(pixel) {
+        *n += w * ns;
+    }
+    if let Some(d) = sums.depth.get_mut(pixel) {
+        *d += w * t;
+    }
+}
+
 /// The camera ray of sample `sample` of pixel `(x, y)` and its filter weight; pushes the ray's
 /// differential to `diffs` when given. Offsets are from the pixel centre and may leave the
 /// pixel (wide filters).
@@ -329,42 +384,18 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
     }
     let lit = si.front_face || material.double_sided;
 
-    let mut albedo = material.base_color;
-    if VERTEX_COLORS && let Some(colors) = &mesh.colors {
-        albedo *= si.interpolate(colors).unwrap_or(Vec4::ONE).truncate();
-    }
-    let mut emission = material.emissive;
     // The hit's footprint: ∂p/∂x, ∂p/∂y on the tangent plane and the barycentric derivatives.
     let footprint = if TEXTURES {
         diff.and_then(|rd| Footprint::at(mesh, &si, rd))
     } else {
         None
     };
-    if TEXTURES {
-        if let Some(t) = &material.base_color_texture {
-            albedo *= texture_value(ctx, mesh, &si, footprint.as_ref(), t).truncate();
-        }
-        if let Some(t) = &material.emissive_texture {
-            emission *= texture_value(ctx, mesh, &si, footprint.as_ref(), t).truncate();
-        }
-        if let Some(procedural) = &material.procedural {
-            albedo *= procedural_value(ctx, mesh, &si, footprint.as_ref(), procedural);
-        }
-    }
+    let (albedo, emission) =
+        surface_colors::<TEXTURES, VERTEX_COLORS>(ctx, mesh, &si, footprint.as_ref(), material);
 
     let pixel = path.pixel as usize;
     if primary {
-        let w = path.filter_weight;
-        if let Some(a) = sums.albedo.get_mut(pixel) {
-            *a += if lit { w * albedo } else { Vec3::ZERO };
-        }
-        if let Some(n) = sums.normal.get_mut(pixel) {
-            *n += w * si.ns;
-        }
-        if let Some(d) = sums.depth.get_mut(pixel) {
-            // Camera ray directions are unit, so t is the distance.
-            *d += w * hit.t;
-        }
+        record_first_hit(sums, pixel, path.filter_weight, lit, albedo, si.ns, hit.t);
     }
     if !lit {
         return;

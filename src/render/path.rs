@@ -32,8 +32,8 @@
 use super::LightStrategy;
 use super::film::TileSums;
 use super::integrator::{
-    Footprint, Pass, Scratch, TileContext, camera_sample, procedural_value, texture_value,
-    trace_batch, trace_shadows,
+    Footprint, Pass, Scratch, TileContext, camera_sample, record_first_hit, surface_colors,
+    texture_value, trace_batch, trace_shadows,
 };
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
@@ -41,11 +41,11 @@ use super::tiles::Tile;
 use crate::accel::{Hit, Ray};
 use crate::bsdf::{Bsdf, Frame};
 use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_to};
+use crate::light::area::AreaSample;
 use crate::light::{Incident, PunctualLight, ShadowTarget};
+use crate::material::material_index;
 use crate::material::scattering::SurfaceBsdf;
-use crate::material::{ShadingMaterial, material_index};
-use crate::scene::Mesh;
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 
 /// Depth (bounces) from which Russian roulette may end a path.
 pub const RR_START_DEPTH: u32 = 3;
@@ -288,16 +288,7 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
     let path = &mut v.path;
     let pixel = path.pixel as usize;
     if v.depth == 0 {
-        let w = path.filter_weight;
-        if let Some(a) = sums.albedo.get_mut(pixel) {
-            *a += if lit { w * albedo } else { Vec3::ZERO };
-        }
-        if let Some(n) = sums.normal.get_mut(pixel) {
-            *n += w * si.ns;
-        }
-        if let Some(d) = sums.depth.get_mut(pixel) {
-            *d += w * hit.t;
-        }
+        record_first_hit(sums, pixel, path.filter_weight, lit, albedo, si.ns, hit.t);
     }
     if !lit {
         return;
@@ -367,36 +358,6 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
     });
 }
 
-/// Base colour ρ and emitted radiance Le at a hit, textures and vertex colours applied.
-#[inline(always)]
-fn surface_colors<const TEXTURES: bool, const VERTEX_COLORS: bool>(
-    ctx: &TileContext<'_>,
-    mesh: &Mesh,
-    si: &SurfaceInteraction,
-    footprint: Option<&Footprint>,
-    material: &ShadingMaterial,
-) -> (Vec3, Vec3) {
-    let mut albedo = material.base_color;
-    if VERTEX_COLORS && let Some(colors) = &mesh.colors {
-        albedo *= si.interpolate(colors).unwrap_or(Vec4::ONE).truncate();
-    }
-    let mut emission = material.emissive;
-    if TEXTURES {
-        if let Some(t) = &material.base_color_texture {
-            albedo *= texture_value(ctx, mesh, si, footprint, t).truncate();
-        }
-        if emission != Vec3::ZERO
-            && let Some(t) = &material.emissive_texture
-        {
-            emission *= texture_value(ctx, mesh, si, footprint, t).truncate();
-        }
-        if let Some(procedural) = &material.procedural {
-            albedo *= procedural_value(ctx, mesh, si, footprint, procedural);
-        }
-    }
-    (albedo, emission)
-}
-
 /// Next-event estimation at a vertex: every punctual light, one area-light point, one
 /// environment direction; each becomes one shadow ray carrying its contribution.
 #[inline(always)]
@@ -445,7 +406,7 @@ fn sample_lights<const TEXTURES: bool>(
             && si.ng.dot(ls.wi) > 0.0
             && si.ns.dot(ls.wi) > 0.0
         {
-            let le = emitted_at::<TEXTURES>(ctx, ls.mesh, ls.triangle, ls.barycentrics, ls.wi);
+            let le = emitted_at::<TEXTURES>(ctx, &ls);
             let wl = frame.to_local(ls.wi);
             let f = bsdf.eval(wo, wl);
             if le != Vec3::ZERO && f != Vec3::ZERO {
@@ -482,44 +443,33 @@ fn sample_lights<const TEXTURES: bool>(
     }
 }
 
-/// The radiance an emissive triangle sends toward `-wi` (from its sampled point back to the
+/// The radiance the sampled emitter point `ls` sends toward `-ls.wi` (back to the
 /// shading point): its material's emission, textured, on a lit side only.
 #[inline]
-fn emitted_at<const TEXTURES: bool>(
-    ctx: &TileContext<'_>,
-    mesh_index: u32,
-    triangle: u32,
-    barycentrics: [f32; 3],
-    wi: Vec3,
-) -> Vec3 {
-    let Some(mesh) = ctx.scene.meshes.get(mesh_index as usize) else {
+fn emitted_at<const TEXTURES: bool>(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
+    let Some(mesh) = ctx.scene.meshes.get(ls.mesh as usize) else {
         return Vec3::ZERO;
     };
-    let Some(&vertices) = mesh.indices.get(triangle as usize) else {
+    let Some(&vertices) = mesh.indices.get(ls.triangle as usize) else {
         return Vec3::ZERO;
     };
     let material = &ctx.materials[material_index(mesh.material, ctx.materials.len())];
-    let [a, b, c] = vertices.map(|i| mesh.positions.get(i as usize).copied());
-    let (Some(a), Some(b), Some(c)) = (a, b, c) else {
-        return Vec3::ZERO;
-    };
-    let ng = (b - a).cross(c - a).normalize_or_zero();
-    let wo = -wi;
+    let ng = ls.normal;
+    let wo = -ls.wi;
     let front_face = ng.dot(wo) > 0.0;
     if !(front_face || material.double_sided) {
         return Vec3::ZERO;
     }
     let mut emission = material.emissive;
     if TEXTURES && let Some(t) = &material.emissive_texture {
-        let [b0, b1, b2] = barycentrics;
         let si = SurfaceInteraction {
-            p: a * b0 + b * b1 + c * b2,
+            p: ls.point,
             p_error: Vec3::ZERO,
             ng: if front_face { ng } else { -ng },
             ns: if front_face { ng } else { -ng },
             wo,
             front_face,
-            barycentrics,
+            barycentrics: ls.barycentrics,
             vertices,
         };
         emission *= texture_value(ctx, mesh, &si, None, t).truncate();
