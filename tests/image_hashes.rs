@@ -53,8 +53,8 @@ const EXPECTED: &[(&str, u64)] = &[
     ("Cameras/embree/exr", 0xec7670cafdbd5dd0),
     ("Suzanne/embree/png", 0x3f412146466aca6f),
     ("Suzanne/embree/exr", 0x2a6346390526364b),
-    ("DamagedHelmet/embree/png", 0x8c60541cadb475a1), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("DamagedHelmet/embree/exr", 0x89f9999d8ddc7380), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("DamagedHelmet/embree/png", 0xb5846719646e643e), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("DamagedHelmet/embree/exr", 0x7f36e377392e43e6), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/embree/exr", 0x7ba944f7b63e8c7a),
     ("demo/embree/partial", 0xe0d3a2f309b5c479), // re-recorded: direct light from emissive surfaces (issue 12)
@@ -69,8 +69,8 @@ const EXPECTED: &[(&str, u64)] = &[
     ("Cameras/bvh/exr", 0x4a2a966ffdc0eabf),
     ("Suzanne/bvh/png", 0x3f412146466aca6f),
     ("Suzanne/bvh/exr", 0x62ccef9ccb92e89f),
-    ("DamagedHelmet/bvh/png", 0x2df40e67df19335f), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("DamagedHelmet/bvh/exr", 0x58eeeb2667be1fbf), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("DamagedHelmet/bvh/png", 0xac4fb07fa0d07cbc), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("DamagedHelmet/bvh/exr", 0x641f19569a8753af), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/bvh/exr", 0x26616c4e1be72457),
     ("demo/bvh/partial", 0x2d03021458abd60d), // re-recorded: direct light from emissive surfaces (issue 12)

@@ -17,6 +17,7 @@
 
 pub mod area;
 pub mod directional;
+pub mod emission_average;
 pub mod environment;
 pub mod light_bvh;
 pub mod point;

@@ -319,8 +319,8 @@ impl PreparedScene {
         let accel = super::prepare(&scene, backend, BuildOptions::default())
             .map_err(|e| JobError::from(e).in_scene(&label))?;
         let mipmaps = super::build_mipmaps(&scene);
-        let area_lights =
-            super::build_area_lights(&scene).map_err(|e| JobError::from(e).in_scene(&label))?;
+        let area_lights = super::build_area_lights(&scene, Some(&mipmaps))
+            .map_err(|e| JobError::from(e).in_scene(&label))?;
         Ok(Self {
             scene,
             label,

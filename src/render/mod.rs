@@ -262,41 +262,42 @@ pub const LIGHT_BVH_MIN_EMITTERS: usize = 16;
 
 /// The scene's emissive triangles as area lights, with their selection tables: work that
 /// depends only on the scene, done once at load. A triangle's power uses its material's
-/// emissive factor times the mean of its emissive texture (the texture's value varies over
-/// the triangle; that changes how well the sampling density fits, not the estimate's mean).
-/// Empty when nothing emits.
-pub fn build_area_lights(scene: &Scene) -> Result<crate::light::area::AreaLights, RenderError> {
+/// emissive factor times its emissive texture's mean over the triangle's own uv footprint
+/// ([`crate::light::emission_average`]): the texture's value still varies inside the triangle,
+/// which changes how well the sampling density fits, not the estimate's mean. `mipmaps` are
+/// the scene's MIP chains from [`build_mipmaps`] when already built; without them (or for a
+/// texture they lack) the emissive textures' chains are built here. Empty when nothing emits.
+pub fn build_area_lights(
+    scene: &Scene,
+    mipmaps: Option<&[crate::texture::MipMap]>,
+) -> Result<crate::light::area::AreaLights, RenderError> {
     use crate::light::area::{AreaLights, SelectionMode};
-    let texture_mean = |t: &Option<crate::scene::TextureRef>| -> glam::Vec3 {
-        let Some(texture) = t.and_then(|r| scene.textures.get(r.texture)) else {
-            return glam::Vec3::ONE;
-        };
-        let n = texture.texels.len().max(1) as f64;
-        let sum = texture
-            .texels
-            .iter()
-            .fold(glam::DVec3::ZERO, |acc, t| acc + t.truncate().as_dvec3());
-        (sum / n).as_vec3()
-    };
-    let mean_le: Vec<glam::Vec3> = scene
+    use crate::light::emission_average::triangle_mean;
+    use crate::texture::MipMap;
+    use std::collections::BTreeMap;
+    let emitting = |m: &crate::scene::Material| m.emissive.max_element() > 0.0;
+    // The MIP chains of emissive textures the caller did not supply.
+    let own: BTreeMap<usize, MipMap> = scene
         .materials
         .iter()
-        .map(|m| {
-            if m.emissive == glam::Vec3::ZERO {
-                glam::Vec3::ZERO
-            } else {
-                m.emissive * texture_mean(&m.emissive_texture)
-            }
+        .filter(|m| emitting(m))
+        .filter_map(|m| m.emissive_texture.map(|t| t.texture))
+        .filter(|&t| mipmaps.is_none_or(|given| given.get(t).is_none()))
+        .filter_map(|t| {
+            scene
+                .textures
+                .get(t)
+                .map(|texture| (t, MipMap::new(texture)))
         })
         .collect();
+    let mip_of = |t: usize| {
+        own.get(&t)
+            .or_else(|| mipmaps.and_then(|given| given.get(t)))
+    };
     let emitters: usize = scene
         .meshes
         .iter()
-        .filter(|m| {
-            mean_le
-                .get(m.material)
-                .is_some_and(|le| *le != glam::Vec3::ZERO)
-        })
+        .filter(|m| scene.materials.get(m.material).is_some_and(emitting))
         .map(|m| m.indices.len())
         .sum();
     let mode = if emitters >= LIGHT_BVH_MIN_EMITTERS {
@@ -304,13 +305,22 @@ pub fn build_area_lights(scene: &Scene) -> Result<crate::light::area::AreaLights
     } else {
         SelectionMode::Power
     };
-    let le = |mesh: u32, _triangle: u32| {
-        scene
-            .meshes
-            .get(mesh as usize)
-            .and_then(|m| mean_le.get(m.material))
-            .copied()
-            .unwrap_or(glam::Vec3::ZERO)
+    let le = |mesh: u32, triangle: u32| {
+        let Some(mesh) = scene.meshes.get(mesh as usize) else {
+            return glam::Vec3::ZERO;
+        };
+        let Some(material) = scene.materials.get(mesh.material).filter(|m| emitting(m)) else {
+            return glam::Vec3::ZERO;
+        };
+        let texture_mean = material
+            .emissive_texture
+            .and_then(|t| {
+                let mip = mip_of(t.texture)?;
+                triangle_mean(mesh, triangle as usize, &t, mip)
+            })
+            // No (valid) texture: the factor alone, as the shading does.
+            .unwrap_or(glam::Vec3::ONE);
+        material.emissive * texture_mean
     };
     AreaLights::from_scene(scene, le, mode).map_err(|e| RenderError::Settings(e.to_string()))
 }

@@ -104,7 +104,10 @@ impl<'a> TileScheduler<'a> {
         let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
         let area_lights: Option<Cow<'a, crate::light::area::AreaLights>> = match area_lights {
             Some(shared) => Some(Cow::Borrowed(shared)),
-            None => Some(Cow::Owned(super::build_area_lights(scene)?)),
+            None => Some(Cow::Owned(super::build_area_lights(
+                scene,
+                Some(&mipmaps).filter(|m| !m.is_empty()).map(|m| &**m),
+            )?)),
         }
         .filter(|lights| !lights.is_empty());
         // The path kernel runs for the path tracer, and for the direct integrator when the
