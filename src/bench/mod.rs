@@ -10,8 +10,10 @@
 //! - [`report`]: the figures as data, the ratios derived within one run, and the tables.
 //! - [`render`]: `bench render`: the renderer's kernels, its raw-trace ceiling and its thread
 //!   scaling, on the renderer's own camera rays and tiles.
+//! - [`ray_mix`]: the path tracer's own rays, recorded during a render and replayed unshaded.
 
 pub mod cpu;
+pub mod ray_mix;
 pub mod rays;
 pub mod render;
 pub mod report;

@@ -201,24 +201,97 @@ pub struct KernelBenchArgs {
     /// Worker threads; 0 uses every core.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Integrator: `direct` compares the kernels and the raw camera + shadow trace; `path`
+    /// records the path tracer's own rays and replays them unshaded.
+    #[arg(long, value_enum, default_value_t = render::Integrator::Direct)]
+    pub integrator: render::Integrator,
+    /// Bounces of the path tracer (`--integrator path`).
+    #[arg(long, default_value_t = 8)]
+    pub max_depth: u32,
+    /// Environment map for `--integrator path`; without it, a uniform white environment of
+    /// radiance 1 (the renderer's default for scenes without lights).
+    #[arg(long)]
+    pub env: Option<PathBuf>,
+}
+
+/// The path tracer's benchmark: the scene's own lights (no default sun) under `--env` or the
+/// default environment, its rays recorded and replayed ([`crate::bench::ray_mix`]).
+fn run_path_mix(args: &KernelBenchArgs) -> Result<(), CliError> {
+    let (scene, camera) = match &args.scene {
+        Some(path) => {
+            let scene = crate::scene::gltf::load(path).map_err(CliError::from_display)?;
+            let camera = scene
+                .cameras
+                .first()
+                .cloned()
+                .unwrap_or_else(|| crate::scene::defaults::default_camera(&scene));
+            (scene, camera)
+        }
+        None => {
+            let builtin = procedural(&args.procedural)?;
+            procedural_scene(builtin, 1)
+        }
+    };
+    let environment = match &args.env {
+        Some(path) => crate::light::environment::EnvironmentLight::from_file(path, 1.0, 0.0)
+            .map_err(CliError::from_display)?,
+        None => crate::light::environment::EnvironmentLight::constant(glam::Vec3::ONE),
+    };
+    let accel = render::prepare(&scene, args.backend, BuildOptions::default())
+        .map_err(CliError::from_display)?;
+    let mipmaps = render::build_mipmaps(&scene);
+    let area_lights = render::build_area_lights(&scene, Some(&mipmaps))
+        .map_err(CliError::from_display)?;
+    let inputs = render::RenderInputs {
+        mipmaps: Some(&mipmaps),
+        environment: Some(&environment),
+        area_lights: Some(&area_lights),
+        ..render::RenderInputs::of_scene(&scene, accel.as_ref(), &camera)
+    };
+    let settings = RenderSettings {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        threads: args.threads,
+        integrator: render::Integrator::Path,
+        max_depth: args.max_depth,
+        ..RenderSettings::default()
+    };
+    let report = crate::bench::ray_mix::path_mix_bench(&inputs, &settings, args.runs)
+        .map_err(CliError::from_display)?;
+    println!(
+        "{} triangles, {}×{}, {} spp, path tracer (max depth {}), {}",
+        scene.triangle_count(),
+        args.width,
+        args.height,
+        args.spp,
+        args.max_depth,
+        args.backend
+    );
+    println!("{report}");
+    Ok(())
+}
+
+/// The procedural scene named `name`.
+fn procedural(name: &str) -> Result<Builtin, CliError> {
+    Builtin::ALL
+        .into_iter()
+        .find(|b| b.name() == name)
+        .ok_or_else(|| {
+            CliError::Usage(format!(
+                "unknown procedural scene '{name}': use sphere, terrain or soup"
+            ))
+        })
 }
 
 /// Runs the render benchmark and prints its report to stdout.
 pub fn run_render(args: KernelBenchArgs) -> Result<(), CliError> {
+    if args.integrator == render::Integrator::Path {
+        return run_path_mix(&args);
+    }
     let (scene, camera) = match &args.scene {
         Some(path) => scene_to_bench(path).map_err(CliError::from_display)?,
-        None => {
-            let builtin = Builtin::ALL
-                .into_iter()
-                .find(|b| b.name() == args.procedural)
-                .ok_or_else(|| {
-                    CliError::Usage(format!(
-                        "unknown procedural scene '{}': use sphere, terrain or soup",
-                        args.procedural
-                    ))
-                })?;
-            procedural_scene(builtin, 1)
-        }
+        None => procedural_scene(procedural(&args.procedural)?, 1),
     };
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())
         .map_err(CliError::from_display)?;

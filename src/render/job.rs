@@ -19,6 +19,7 @@ use crate::accel::{Accel, BackendKind, BuildOptions};
 use crate::light::LightUnits;
 use crate::light::area::AreaLights;
 use crate::light::environment::{EnvironmentError, EnvironmentLight};
+use std::sync::{Arc, Mutex};
 use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr, write_png};
 use crate::scene::defaults::{self, NoSuchCamera};
 use crate::scene::gltf::{LoadError, LoadOptions, SceneSelection};
@@ -300,6 +301,10 @@ pub struct PreparedScene {
     /// Its emissive triangles as lights ([`super::build_area_lights`]; empty when nothing
     /// emits).
     pub area_lights: AreaLights,
+    /// The environment the last job asked for, kept for the next one: the jobs of a batch
+    /// (or a Python loop) over one scene usually share their environment, whose decode and
+    /// sampling tables cost more than many small renders.
+    environment_cache: Mutex<Option<(EnvironmentSource, Arc<EnvironmentLight>)>>,
 }
 
 impl PreparedScene {
@@ -327,7 +332,30 @@ impl PreparedScene {
             accel,
             mipmaps,
             area_lights,
+            environment_cache: Mutex::new(None),
         })
+    }
+
+    /// The environment light of `source`: the one the previous job of this scene loaded if
+    /// it asked for the same, else loaded now (and kept in its place).
+    pub fn environment(
+        &self,
+        source: &EnvironmentSource,
+    ) -> Result<Arc<EnvironmentLight>, EnvironmentError> {
+        // A poisoned lock only means another job panicked while loading: the slot holds
+        // either nothing or a complete entry, so it is still safe to use.
+        let mut slot = self
+            .environment_cache
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((cached, light)) = slot.as_ref()
+            && cached == source
+        {
+            return Ok(Arc::clone(light));
+        }
+        let light = Arc::new(source.light()?);
+        *slot = Some((source.clone(), Arc::clone(&light)));
+        Ok(light)
     }
 }
 
@@ -532,7 +560,11 @@ fn run_in_scene(
         say(note);
     }
     let camera = camera.value;
-    let given = job.environment.as_ref().map(|e| e.light()).transpose()?;
+    let given = job
+        .environment
+        .as_ref()
+        .map(|e| prepared.environment(e))
+        .transpose()?;
     let extra = job.extra_lights()?;
     let environment = defaults::environment_for(scene, &extra, given, job.settings.integrator);
     if let Some(note) = environment.added {
@@ -580,7 +612,7 @@ fn run_in_scene(
         camera: &camera,
         pool,
         mipmaps: Some(&prepared.mipmaps),
-        environment: environment.as_ref(),
+        environment: environment.as_deref(),
         area_lights: Some(&prepared.area_lights),
     };
     let output = job.output.as_ref();
@@ -750,5 +782,37 @@ mod tests {
         assert_eq!((done.width, done.height, done.samples), (8, 6, 0..1));
         assert!(done.output.is_none());
         assert!(done.stats.rays.camera == 48, "{:?}", done.stats.rays);
+    }
+
+    #[test]
+    fn a_prepared_scene_keeps_the_last_environment_for_the_next_job() {
+        let scene = crate::scene::demo::demo_scene().unwrap();
+        let prepared =
+            PreparedScene::new(scene, "demo".into(), crate::accel::BackendKind::Bvh).unwrap();
+        let studio = EnvironmentSource::File {
+            path: std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("../shared/env/studio.hdr"),
+            strength: 1.0,
+            rotation_deg: 0.0,
+        };
+        let first = prepared.environment(&studio).unwrap();
+        let again = prepared.environment(&studio).unwrap();
+        assert!(Arc::ptr_eq(&first, &again), "the same source was loaded twice");
+        let turned = EnvironmentSource::File {
+            path: match &studio {
+                EnvironmentSource::File { path, .. } => path.clone(),
+                EnvironmentSource::Constant(_) => unreachable!(),
+            },
+            strength: 1.0,
+            rotation_deg: 90.0,
+        };
+        let other = prepared.environment(&turned).unwrap();
+        assert!(!Arc::ptr_eq(&first, &other), "a different rotation reused the cache");
+        let missing = EnvironmentSource::File {
+            path: "no/such/env.hdr".into(),
+            strength: 1.0,
+            rotation_deg: 0.0,
+        };
+        assert!(prepared.environment(&missing).is_err());
     }
 }

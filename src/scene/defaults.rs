@@ -376,9 +376,9 @@ pub const DEFAULT_ENVIRONMENT_RADIANCE: f32 = 1.0;
 pub fn environment_for(
     scene: &Scene,
     extra: &[Light],
-    given: Option<crate::light::environment::EnvironmentLight>,
+    given: Option<std::sync::Arc<crate::light::environment::EnvironmentLight>>,
     integrator: crate::render::Integrator,
-) -> Completed<Option<crate::light::environment::EnvironmentLight>> {
+) -> Completed<Option<std::sync::Arc<crate::light::environment::EnvironmentLight>>> {
     if given.is_some() {
         return Completed {
             value: given,
@@ -388,8 +388,10 @@ pub fn environment_for(
     if integrator == crate::render::Integrator::Path && scene.lights.is_empty() && extra.is_empty()
     {
         return Completed {
-            value: Some(crate::light::environment::EnvironmentLight::constant(
-                Vec3::splat(DEFAULT_ENVIRONMENT_RADIANCE),
+            value: Some(std::sync::Arc::new(
+                crate::light::environment::EnvironmentLight::constant(Vec3::splat(
+                    DEFAULT_ENVIRONMENT_RADIANCE,
+                )),
             )),
             added: Some(format!(
                 "the scene has no lights: rendering it under the default environment (uniform \
