@@ -114,6 +114,11 @@ fn exr_round_trip_with_aovs() {
             height: 1,
             pixels: vec![1.5, 0.0, 1e6],
         }),
+        alpha: Some(Image {
+            width: 3,
+            height: 1,
+            pixels: vec![1.0, 0.25, 0.0],
+        }),
     };
     write_exr(&path, &radiance, &aovs).unwrap();
 
@@ -153,10 +158,11 @@ fn exr_round_trip_with_aovs() {
     assert_eq!(
         names,
         [
-            "B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z", "normal.X", "normal.Y",
-            "normal.Z"
+            "A", "B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z", "normal.X",
+            "normal.Y", "normal.Z"
         ]
     );
+    assert_eq!(channel("A"), vec![1.0, 0.25, 0.0]);
     for (axis, name) in ["R", "G", "B"].iter().enumerate() {
         let want: Vec<f32> = values.iter().map(|v| v[axis]).collect();
         assert_eq!(channel(name), want, "channel {name}");

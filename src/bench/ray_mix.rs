@@ -96,7 +96,11 @@ impl Accel for RecordingAccel<'_> {
     }
 
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        self.record(Query::Closest, Coherence::Incoherent, std::slice::from_ref(ray));
+        self.record(
+            Query::Closest,
+            Coherence::Incoherent,
+            std::slice::from_ref(ray),
+        );
         self.inner.intersect(ray)
     }
 
@@ -312,10 +316,8 @@ mod tests {
     #[test]
     fn the_path_mix_is_the_renders_own_rays() {
         use crate::render::{Integrator, RenderInputs, RenderSettings, render_film};
-        let (scene, camera) = crate::bench::render::procedural_scene(
-            crate::procedural::Builtin::ALL[0],
-            1,
-        );
+        let (scene, camera) =
+            crate::bench::render::procedural_scene(crate::procedural::Builtin::ALL[0], 1);
         let accel = build(
             BackendKind::Bvh,
             &scene.triangle_meshes(),

@@ -240,8 +240,8 @@ fn run_path_mix(args: &KernelBenchArgs) -> Result<(), CliError> {
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())
         .map_err(CliError::from_display)?;
     let mipmaps = render::build_mipmaps(&scene);
-    let area_lights = render::build_area_lights(&scene, Some(&mipmaps))
-        .map_err(CliError::from_display)?;
+    let area_lights =
+        render::build_area_lights(&scene, Some(&mipmaps)).map_err(CliError::from_display)?;
     let inputs = render::RenderInputs {
         mipmaps: Some(&mipmaps),
         environment: Some(&environment),

@@ -2,7 +2,11 @@
 //!
 //! Channels: `R`, `G`, `B` (radiance, W/(m²·sr)), plus for each selected AOV
 //! `albedo.R/G/B`, `normal.X/Y/Z` (world space) and `depth.Z` (scene units), named with the
-//! layer-prefix convention OpenEXR readers group into layers. Exposure is not applied.
+//! layer-prefix convention OpenEXR readers group into layers, and `A`, the coverage (the
+//! filter-weighted fraction of camera samples that hit the scene). With the environment
+//! hidden (`--env-hidden`) the colour is premultiplied by `A`, as OpenEXR's compositing
+//! convention expects; with it visible, uncovered samples carry the environment instead.
+//! Exposure is not applied.
 
 use super::{OutputError, write_atomically};
 use crate::render::{Aovs, Image};
@@ -53,6 +57,12 @@ pub fn write_exr(
             "depth.Z",
             FlatSamples::F32(depth.pixels.clone()),
         ));
+    }
+    if let Some(alpha) = &aovs.alpha {
+        if alpha.pixels.len() != pixel_count {
+            return Err(encode_error("alpha has the wrong size".into()));
+        }
+        channels.push(AnyChannel::new("A", FlatSamples::F32(alpha.pixels.clone())));
     }
     let layer = Layer::new(
         (image.width as usize, image.height as usize),

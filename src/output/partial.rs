@@ -59,6 +59,9 @@ pub fn write_partial_exr(path: &Path, part: &PartialImage) -> Result<(), OutputE
     if let Some(normal) = &part.aov_sums.normal {
         add3(["normal.X", "normal.Y", "normal.Z"], normal);
     }
+    if let Some(alpha) = &part.aov_sums.alpha {
+        channels.push(AnyChannel::new("A", FlatSamples::F32(alpha.pixels.clone())));
+    }
     if let Some(depth) = &part.aov_sums.depth {
         channels.push(AnyChannel::new(
             "depth.Z",
@@ -171,6 +174,11 @@ pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
             albedo: image3(["albedo.R", "albedo.G", "albedo.B"]),
             normal: image3(["normal.X", "normal.Y", "normal.Z"]),
             depth: channel("depth.Z").map(|pixels| Image {
+                width,
+                height,
+                pixels,
+            }),
+            alpha: channel("A").map(|pixels| Image {
                 width,
                 height,
                 pixels,

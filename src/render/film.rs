@@ -66,6 +66,10 @@ pub struct Aovs {
     pub normal: Option<Image<Vec3>>,
     /// See [`AovSelection::depth`].
     pub depth: Option<Image<f32>>,
+    /// Coverage: the filter-weighted fraction of camera samples whose ray hit the scene (1
+    /// inside objects, 0 where only the environment is seen, fractional on edges). Always
+    /// computed (one add per camera hit); EXR outputs carry it as their `A` channel.
+    pub alpha: Option<Image<f32>>,
 }
 
 /// Per-pixel sums of one tile's samples, in the tile's row-major order.
@@ -93,6 +97,8 @@ pub struct TileSums {
     pub normal: Vec<Vec3>,
     /// Σ w·depth, if selected.
     pub depth: Vec<f32>,
+    /// Σ w over samples whose camera ray hit the scene (coverage).
+    pub alpha: Vec<f32>,
 }
 
 impl TileSums {
@@ -108,6 +114,7 @@ impl TileSums {
             albedo: vec![Vec3::ZERO; sized(aovs.albedo)],
             normal: vec![Vec3::ZERO; sized(aovs.normal)],
             depth: vec![0.0; sized(aovs.depth)],
+            alpha: vec![0.0; pixels],
         }
     }
 
@@ -141,6 +148,7 @@ pub struct Film {
     albedo: Option<Image<Vec3>>,
     normal: Option<Image<Vec3>>,
     depth: Option<Image<f32>>,
+    alpha: Image<f32>,
 }
 
 /// Floor of the relative-error denominator, as a fraction of the image's mean luminance:
@@ -159,6 +167,7 @@ impl Film {
             albedo: aovs.albedo.then(zero3),
             normal: aovs.normal.then(zero3),
             depth: aovs.depth.then(|| Image::filled(width, height, 0.0)),
+            alpha: Image::filled(width, height, 0.0),
         }
     }
 
@@ -192,6 +201,7 @@ impl Film {
         if let Some(image) = &mut self.depth {
             add(image, tile, &sums.depth);
         }
+        add(&mut self.alpha, tile, &sums.alpha);
     }
 
     /// The unresolved sums: `Σ w·L` and the AOVs' `Σ w·value` per pixel, and `Σ w`. Partial
@@ -219,6 +229,7 @@ impl Film {
                 albedo: self.albedo,
                 normal: self.normal,
                 depth: self.depth,
+                alpha: Some(self.alpha),
             },
             weight,
         )
@@ -313,7 +324,7 @@ impl Film {
                 .map(|(i, &p)| safe_div3(p, weight(i)))
                 .collect(),
         };
-        let depth = self.depth.as_ref().map(|image| Image {
+        let scale1 = |image: &Image<f32>| Image {
             width: image.width,
             height: image.height,
             pixels: image
@@ -322,13 +333,14 @@ impl Film {
                 .enumerate()
                 .map(|(i, &d)| if weight(i) != 0.0 { d / weight(i) } else { 0.0 })
                 .collect(),
-        });
+        };
         (
             self.radiance(),
             Aovs {
                 albedo: self.albedo.as_ref().map(scale3),
                 normal: self.normal.as_ref().map(scale3),
-                depth,
+                depth: self.depth.as_ref().map(scale1),
+                alpha: Some(scale1(&self.alpha)),
             },
         )
     }

@@ -279,6 +279,9 @@ pub(super) fn record_first_hit(
     if let Some(d) = sums.depth.get_mut(pixel) {
         *d += w * t;
     }
+    if let Some(a) = sums.alpha.get_mut(pixel) {
+        *a += w;
+    }
 }
 
 /// The camera ray of sample `sample` of pixel `(x, y)` and its filter weight; pushes the ray's

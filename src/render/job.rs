@@ -19,7 +19,6 @@ use crate::accel::{Accel, BackendKind, BuildOptions};
 use crate::light::LightUnits;
 use crate::light::area::AreaLights;
 use crate::light::environment::{EnvironmentError, EnvironmentLight};
-use std::sync::{Arc, Mutex};
 use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr, write_png};
 use crate::scene::defaults::{self, NoSuchCamera};
 use crate::scene::gltf::{LoadError, LoadOptions, SceneSelection};
@@ -29,6 +28,7 @@ use crate::texture::MipMap;
 use glam::Vec3;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 /// Most samples per pixel a job accepts (2^24): beyond it f32 sample sums stop resolving a
 /// single sample's contribution.
@@ -797,7 +797,10 @@ mod tests {
         };
         let first = prepared.environment(&studio).unwrap();
         let again = prepared.environment(&studio).unwrap();
-        assert!(Arc::ptr_eq(&first, &again), "the same source was loaded twice");
+        assert!(
+            Arc::ptr_eq(&first, &again),
+            "the same source was loaded twice"
+        );
         let turned = EnvironmentSource::File {
             path: match &studio {
                 EnvironmentSource::File { path, .. } => path.clone(),
@@ -807,7 +810,10 @@ mod tests {
             rotation_deg: 90.0,
         };
         let other = prepared.environment(&turned).unwrap();
-        assert!(!Arc::ptr_eq(&first, &other), "a different rotation reused the cache");
+        assert!(
+            !Arc::ptr_eq(&first, &other),
+            "a different rotation reused the cache"
+        );
         let missing = EnvironmentSource::File {
             path: "no/such/env.hdr".into(),
             strength: 1.0,

@@ -151,10 +151,11 @@ pub fn merge(parts: &[PartialImage]) -> Result<(Image<Vec3>, Aovs), MergeError> 
         let channels = |p: &PartialImage| {
             let a = &p.aov_sums;
             format!(
-                "albedo {}, normal {}, depth {}",
+                "albedo {}, normal {}, depth {}, alpha {}",
                 a.albedo.is_some(),
                 a.normal.is_some(),
-                a.depth.is_some()
+                a.depth.is_some(),
+                a.alpha.is_some()
             )
         };
         if channels(part) != channels(first) {
@@ -212,24 +213,29 @@ pub fn merge(parts: &[PartialImage]) -> Result<(Image<Vec3>, Aovs), MergeError> 
     };
     let albedo = aov3(|p| p.aov_sums.albedo.as_ref());
     let normal = aov3(|p| p.aov_sums.normal.as_ref());
-    let depth = first.aov_sums.depth.as_ref().map(|_| {
-        let sums = resolve(&order, |p| p.aov_sums.depth.as_ref(), |&d| [d as f64]);
-        Image {
-            width,
-            height,
-            pixels: sums
-                .iter()
-                .zip(&weights)
-                .map(|(s, &w)| if w > 0.0 { (s[0] / w) as f32 } else { 0.0 })
-                .collect(),
-        }
-    });
+    let aov1 = |pick: fn(&PartialImage) -> Option<&Image<f32>>| {
+        pick(first).map(|_| {
+            let sums = resolve(&order, pick, |&d| [d as f64]);
+            Image {
+                width,
+                height,
+                pixels: sums
+                    .iter()
+                    .zip(&weights)
+                    .map(|(s, &w)| if w > 0.0 { (s[0] / w) as f32 } else { 0.0 })
+                    .collect(),
+            }
+        })
+    };
+    let depth = aov1(|p| p.aov_sums.depth.as_ref());
+    let alpha = aov1(|p| p.aov_sums.alpha.as_ref());
     Ok((
         radiance,
         Aovs {
             albedo,
             normal,
             depth,
+            alpha,
         },
     ))
 }
