@@ -1,0 +1,54 @@
+//! A material's coverage and shading model: glTF `alphaMode` / `alphaCutoff` and
+//! KHR_materials_unlit, read into [`AlphaMode`] and [`Material::unlit`].
+//!
+//! [`Material::unlit`]: crate::scene::Material::unlit
+
+use super::source::Origin;
+use crate::scene::AlphaMode;
+
+/// glTF's `alphaCutoff` when a MASK material gives none.
+pub const DEFAULT_ALPHA_CUTOFF: f32 = 0.5;
+
+/// The alpha mode and the unlit flag of one glTF material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// `alphaMode`, with `alphaCutoff` inside MASK.
+    pub alpha: AlphaMode,
+    /// Whether the material carries KHR_materials_unlit.
+    pub unlit: bool,
+}
+
+/// Reads `material`'s alpha mode and unlit flag. A MASK cutoff that is not a finite number
+/// ≥ 0 (the schema's bound) is replaced, with a warning naming the material: NaN by glTF's
+/// default 0.5, a negative one by 0 (which keeps every point, as any negative cutoff would).
+pub fn read(
+    material: &::gltf::Material<'_>,
+    label: &str,
+    origin: Origin<'_>,
+    warnings: &mut Vec<String>,
+) -> Surface {
+    let alpha = match material.alpha_mode() {
+        ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+        ::gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        ::gltf::material::AlphaMode::Mask => {
+            let given = material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF);
+            let cutoff = if given.is_nan() {
+                DEFAULT_ALPHA_CUTOFF
+            } else {
+                given.max(0.0)
+            };
+            if cutoff != given {
+                warnings.push(format!(
+                    "{}: {label}: alphaCutoff {given} is not a number ≥ 0; using {cutoff} \
+                     (fix the material's alphaCutoff)",
+                    origin.file.display()
+                ));
+            }
+            AlphaMode::Mask { cutoff }
+        }
+    };
+    // Read from the raw extension map: the extension has no properties, its presence is the
+    // whole message.
+    let unlit = material.extension_value("KHR_materials_unlit").is_some();
+    Surface { alpha, unlit }
+}
