@@ -12,13 +12,16 @@
 //!   choice is alpha blending (`α · surface + (1 − α) · behind`), so the estimate stays
 //!   unbiased, for camera, bounce and shadow rays alike.
 //! - **Culling.** Camera rays skip back faces of single-sided materials (glTF: "back-face
-//!   culling is enabled"), so the camera sees what lies behind them. Bounce and shadow rays
-//!   do not skip them: a back face stops them and absorbs (it neither reflects nor emits).
-//!   Culling for them too would let light through every single-sided wall seen from behind
-//!   (rooms modelled as single-sided walls facing inward would be flooded by a sun outside),
-//!   and Blender Cycles, whose goldens glint is compared with, culls nothing. Light sampling
-//!   and BSDF sampling agree on this (both see the back face as opaque), so MIS stays
-//!   consistent.
+//!   culling is enabled, i.e., only front-facing triangles are rendered"), so the camera
+//!   sees what lies behind them. Bounce and shadow rays do not: a back face stops them and
+//!   absorbs (it neither reflects nor emits). Culling them too would make visibility depend
+//!   on the direction a ray is traced: the surface would block light crossing it one way and
+//!   pass it the other, so V(x, y) ≠ V(y, x), and light sampling (rays from the shading
+//!   point to the light) and any estimator tracing the other way would disagree. Keeping it
+//!   opaque is reciprocal, costs shadow rays nothing, and is what Blender Cycles (whose
+//!   goldens glint is compared with) does for every ray. The visible consequence: a culled
+//!   surface still casts its shadow (TextureSettingsTest's single-sided cell shows the check
+//!   behind the culled quad in that quad's shadow).
 //!
 //! **Continuing past a rejected hit.** The same ray is traced again with `tnear` set to the
 //! next `f32` above the rejected hit's `t`. Origin and direction are unchanged, so the

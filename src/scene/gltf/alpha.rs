@@ -52,3 +52,55 @@ pub fn read(
     let unlit = material.extension_value("KHR_materials_unlit").is_some();
     Surface { alpha, unlit }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn reads_alpha_modes_cutoffs_and_unlit() {
+        let json = br#"{
+            "asset": {"version": "2.0"},
+            "extensionsUsed": ["KHR_materials_unlit"],
+            "materials": [
+                {"alphaMode": "MASK", "alphaCutoff": 0.25},
+                {"alphaMode": "MASK"},
+                {"alphaMode": "BLEND", "alphaCutoff": 0.9},
+                {"alphaCutoff": 0.3},
+                {"extensions": {"KHR_materials_unlit": {}}, "alphaMode": "BLEND"}
+            ]
+        }"#;
+        let gltf = ::gltf::Gltf::from_slice(json).expect("valid glTF");
+        let options = crate::scene::gltf::LoadOptions::default();
+        let origin = Origin {
+            file: Path::new("x.gltf"),
+            base_dir: None,
+            options: &options,
+        };
+        let mut warnings = Vec::new();
+        let got: Vec<Surface> = gltf
+            .document
+            .materials()
+            .map(|m| read(&m, "m", origin, &mut warnings))
+            .collect();
+        let surface = |alpha, unlit| Surface { alpha, unlit };
+        assert_eq!(
+            got,
+            [
+                surface(AlphaMode::Mask { cutoff: 0.25 }, false),
+                surface(
+                    AlphaMode::Mask {
+                        cutoff: DEFAULT_ALPHA_CUTOFF
+                    },
+                    false
+                ),
+                // The cutoff matters in MASK mode only.
+                surface(AlphaMode::Blend, false),
+                surface(AlphaMode::Opaque, false),
+                surface(AlphaMode::Blend, true),
+            ]
+        );
+        assert!(warnings.is_empty(), "{warnings:?}");
+    }
+}
