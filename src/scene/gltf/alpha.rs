@@ -102,5 +102,17 @@ mod tests {
             ]
         );
         assert!(warnings.is_empty(), "{warnings:?}");
+
+        // Below the schema's minimum: kept as 0, with a warning naming the material.
+        let json = br#"{"asset": {"version": "2.0"},
+            "materials": [{"alphaMode": "MASK", "alphaCutoff": -0.5}]}"#;
+        let gltf = ::gltf::Gltf::from_slice(json).expect("parses");
+        let material = gltf.document.materials().next().expect("one material");
+        let got = read(&material, "material 0", origin, &mut warnings);
+        assert_eq!(got.alpha, AlphaMode::Mask { cutoff: 0.0 });
+        assert!(
+            warnings.len() == 1 && warnings[0].contains("material 0: alphaCutoff -0.5"),
+            "{warnings:?}"
+        );
     }
 }
