@@ -35,6 +35,9 @@ const MODELS: &[(&str, &str)] = &[
     ),
     ("Duck", "glTF-Binary/Duck.glb"),
     ("CesiumMan", "glTF-Binary/CesiumMan.glb"),
+    // Single-sided culling (camera rays) in the top row, which Cycles does not cull: a small
+    // region, 0.45 % mean and 0.54 % blocks over the whole image (issue 14).
+    ("TextureSettingsTest", "glTF-Binary/TextureSettingsTest.glb"),
 ];
 
 fn khronos(rel: &str) -> PathBuf {

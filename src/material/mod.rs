@@ -7,7 +7,9 @@
 //! - [`mirror`]: a perfect specular reflection with reflectance `mirror_weight · ρ`.
 //!
 //! Emission is `emissive × emissive texture` (W/(m²·sr)). Back faces of single-sided materials
-//! neither emit nor reflect. Alpha is ignored. [`texture`] holds the bilinear lookup.
+//! neither emit nor reflect (camera rays cull them). Alpha coverage decides which hits count
+//! (`render::visibility`); an unlit material (KHR_materials_unlit) emits ρ and scatters
+//! nothing. [`texture`] holds the bilinear lookup.
 //!
 //! [`Material::diffuse_weight`]: crate::scene::Material::diffuse_weight
 
@@ -51,6 +53,8 @@ pub struct ShadingMaterial {
     pub double_sided: bool,
     /// Procedural base colour, multiplied into ρ.
     pub procedural: Option<crate::texture::ProceduralTexture>,
+    /// KHR_materials_unlit: emits ρ as radiance, neither reflects nor is lit.
+    pub unlit: bool,
 }
 
 impl ShadingMaterial {
@@ -72,6 +76,7 @@ impl ShadingMaterial {
             emissive_texture: valid(&material.emissive_texture),
             double_sided: material.double_sided,
             procedural: material.procedural.clone(),
+            unlit: material.unlit,
         }
     }
 

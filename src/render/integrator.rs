@@ -18,6 +18,7 @@ use super::filter::FilterSampler;
 use super::sampler::PixelSampler;
 use super::stats::RayCounts;
 use super::tiles::Tile;
+use super::visibility::{RayBatch, RayKind};
 use crate::accel::{Accel, Coherence, Hit, Ray};
 use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_to};
 use crate::light::{Incident, LightSet, PunctualLight, ShadowTarget, Unlit};
@@ -66,6 +67,8 @@ pub(crate) struct TileContext<'a> {
     pub light_strategy: super::LightStrategy,
     /// Russian roulette on (path kernel).
     pub russian_roulette: bool,
+    /// Alpha tests and camera back-face culling (`None`: every hit counts).
+    pub visibility: Option<super::visibility::Visibility>,
 }
 
 /// The samples one pass adds: indices `first_sample .. first_sample + spp` of every pixel's
@@ -158,7 +161,8 @@ pub(crate) fn render_tile<
         let mut depth = 0;
         while !s.rays.is_empty() {
             let primary = depth == 0;
-            let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, &mut counts);
+            let batch = RayBatch::new(tile, sample, depth);
+            let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, batch, &mut counts);
 
             s.points.clear();
             s.next_rays.clear();
@@ -211,7 +215,7 @@ pub(crate) fn render_tile<
                 &s.shadow_rays,
                 &s.shadow_values,
                 &mut s.occluded,
-                coherence,
+                (coherence, batch),
                 &mut counts,
                 &mut sums,
             );
@@ -307,13 +311,15 @@ pub(super) fn camera_sample(
 }
 
 /// Traces one batch of path rays: camera rays (`primary`) coherently, later rays
-/// incoherently, counted by kind. Returns the coherence used, for the batch's shadow rays.
+/// incoherently, counted by kind; hits the visibility rules reject are replaced by the next
+/// accepted one. Returns the coherence used, for the batch's shadow rays.
 #[inline]
 pub(super) fn trace_batch(
     ctx: &TileContext<'_>,
     rays: &[Ray],
     hits: &mut Vec<Option<Hit>>,
     primary: bool,
+    batch: RayBatch,
     counts: &mut RayCounts,
 ) -> Coherence {
     let coherence = if primary {
@@ -324,6 +330,14 @@ pub(super) fn trace_batch(
     hits.clear();
     hits.resize(rays.len(), None);
     ctx.accel.intersect_many(rays, hits, coherence);
+    if let Some(visibility) = &ctx.visibility {
+        let kind = if primary {
+            RayKind::Camera
+        } else {
+            RayKind::Bounce
+        };
+        visibility.resolve_hits(ctx, rays, hits, kind, batch, counts);
+    }
     if primary {
         counts.camera += rays.len() as u64;
     } else {
@@ -332,14 +346,16 @@ pub(super) fn trace_batch(
     coherence
 }
 
-/// Traces a batch of shadow rays and adds the value of each unblocked one to its pixel.
+/// Traces a batch of shadow rays (with the coherence and identity of the path batch they
+/// light) and adds the value of each unblocked one to its pixel; alpha-rejected blockers do
+/// not block.
 #[inline]
 pub(super) fn trace_shadows(
     ctx: &TileContext<'_>,
     rays: &[Ray],
     values: &[(u32, Vec3)],
     occluded: &mut Vec<bool>,
-    coherence: Coherence,
+    (coherence, batch): (Coherence, RayBatch),
     counts: &mut RayCounts,
     sums: &mut TileSums,
 ) {
@@ -349,6 +365,9 @@ pub(super) fn trace_shadows(
     occluded.clear();
     occluded.resize(rays.len(), true);
     ctx.accel.occluded_many(rays, occluded, coherence);
+    if let Some(visibility) = &ctx.visibility {
+        visibility.resolve_occlusion(ctx, rays, occluded, batch, counts);
+    }
     counts.shadow += rays.len() as u64;
     for (&(pixel, value), &blocked) in values.iter().zip(occluded.iter()) {
         if !blocked {
@@ -401,6 +420,11 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
         record_first_hit(sums, pixel, path.filter_weight, lit, albedo, si.ns, hit.t);
     }
     if !lit {
+        return;
+    }
+    if material.unlit {
+        // KHR_materials_unlit: ρ leaves the surface as radiance; nothing is lit or reflected.
+        sums.pending[pixel] += path.throughput * albedo;
         return;
     }
     sums.pending[pixel] += path.throughput * emission;

@@ -48,6 +48,11 @@ pub struct KernelFlags {
     pub area_lights: bool,
     /// The environment is sampled (path kernel only).
     pub environment: bool,
+    /// Hits on MASK and BLEND materials are alpha-tested, and rays continue past rejected
+    /// ones (see [`super::visibility`]).
+    pub alpha: bool,
+    /// Camera rays skip back faces of single-sided materials.
+    pub cull_back_faces: bool,
 }
 
 impl KernelFlags {
@@ -63,6 +68,8 @@ impl KernelFlags {
                 path: false,
                 area_lights: false,
                 environment: false,
+                alpha: features.alpha,
+                cull_back_faces: features.single_sided,
             },
             KernelChoice::General => Self {
                 textures: true,
@@ -73,6 +80,8 @@ impl KernelFlags {
                 path: false,
                 area_lights: false,
                 environment: false,
+                alpha: true,
+                cull_back_faces: true,
             },
         }
     }

@@ -24,6 +24,7 @@ pub mod sampler;
 pub mod scheduler;
 pub mod stats;
 pub mod tiles;
+pub(crate) mod visibility;
 
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};

@@ -38,6 +38,7 @@ use super::integrator::{
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use super::tiles::Tile;
+use super::visibility::RayBatch;
 use crate::accel::{Hit, Ray};
 use crate::bsdf::{Bsdf, Frame};
 use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_to};
@@ -139,7 +140,8 @@ pub(crate) fn render_tile_path<
         let mut depth = 0;
         while !s.rays.is_empty() {
             let primary = depth == 0;
-            let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, &mut counts);
+            let batch = RayBatch::new(tile, sample, depth);
+            let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, batch, &mut counts);
             s.next_rays.clear();
             s.next_paths.clear();
             s.shadow_rays.clear();
@@ -180,7 +182,7 @@ pub(crate) fn render_tile_path<
                 &s.shadow_rays,
                 &s.shadow_values,
                 &mut s.occluded,
-                coherence,
+                (coherence, batch),
                 &mut counts,
                 &mut sums,
             );
@@ -291,6 +293,12 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
         record_first_hit(sums, pixel, path.filter_weight, lit, albedo, si.ns, hit.t);
     }
     if !lit {
+        return;
+    }
+    if material.unlit {
+        // KHR_materials_unlit: ρ leaves the surface as radiance and nothing scatters. Light
+        // sampling never picks unlit surfaces, so BSDF sampling finds them with weight 1.
+        sums.pending[pixel] += path.beta * albedo;
         return;
     }
     if emission != Vec3::ZERO {
@@ -457,22 +465,28 @@ fn emitted_at<const TEXTURES: bool>(ctx: &TileContext<'_>, ls: &AreaSample) -> V
     let ng = ls.normal;
     let wo = -ls.wi;
     let front_face = ng.dot(wo) > 0.0;
-    if !(front_face || material.double_sided) {
+    // Unlit surfaces ignore their emissive factor (their ρ is counted where rays hit them).
+    if !(front_face || material.double_sided) || material.unlit {
         return Vec3::ZERO;
     }
     let mut emission = material.emissive;
+    let si = SurfaceInteraction {
+        p: ls.point,
+        p_error: Vec3::ZERO,
+        ng: if front_face { ng } else { -ng },
+        ns: if front_face { ng } else { -ng },
+        wo,
+        front_face,
+        barycentrics: ls.barycentrics,
+        vertices,
+    };
     if TEXTURES && let Some(t) = &material.emissive_texture {
-        let si = SurfaceInteraction {
-            p: ls.point,
-            p_error: Vec3::ZERO,
-            ng: if front_face { ng } else { -ng },
-            ns: if front_face { ng } else { -ng },
-            wo,
-            front_face,
-            barycentrics: ls.barycentrics,
-            vertices,
-        };
         emission *= texture_value(ctx, mesh, &si, None, t).truncate();
+    }
+    // An emitter with alpha is hit by BSDF-sampled rays only where (MASK) or as often as
+    // (BLEND) its coverage says; its light samples carry the same expectation.
+    if let Some(visibility) = &ctx.visibility {
+        emission *= visibility.emitter_coverage(ctx, ls.mesh, &si);
     }
     emission
 }

@@ -115,10 +115,18 @@ impl<'a> TileScheduler<'a> {
         let path_kernel = settings.integrator == super::Integrator::Path
             || environment.is_some()
             || area_lights.is_some();
+        let visibility = super::visibility::Visibility::new(
+            scene,
+            flags.alpha,
+            flags.cull_back_faces,
+            settings.seed,
+        );
         let flags = KernelFlags {
             path: path_kernel,
             area_lights: area_lights.is_some(),
             environment: environment.is_some(),
+            alpha: visibility.as_ref().is_some_and(|v| v.tests_alpha()),
+            cull_back_faces: visibility.as_ref().is_some_and(|v| v.culls()),
             ..flags
         };
         let ctx = TileContext {
@@ -142,6 +150,7 @@ impl<'a> TileScheduler<'a> {
             delta_only: settings.integrator == super::Integrator::Direct,
             light_strategy: settings.light_strategy,
             russian_roulette: settings.russian_roulette,
+            visibility,
         };
         let pool = match pool {
             Some(shared) => Pool::Shared(shared),

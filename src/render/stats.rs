@@ -22,12 +22,16 @@ pub struct RayCounts {
     pub skipped_outside_cone: u64,
     /// Shadow rays not traced: the point is at or beyond the light's range.
     pub skipped_beyond_range: u64,
+    /// Rays traced again by the visibility tests: continuations past hits that alpha or
+    /// back-face culling rejected, and closest-hit re-checks of blocked shadow rays in
+    /// scenes with alpha.
+    pub retraced: u64,
 }
 
 impl RayCounts {
     /// All rays traced.
     pub fn traced(&self) -> u64 {
-        self.camera + self.shadow + self.reflection
+        self.camera + self.shadow + self.reflection + self.retraced
     }
 
     /// All shadow rays avoided.
@@ -44,6 +48,7 @@ impl AddAssign for RayCounts {
         self.skipped_facing_away += o.skipped_facing_away;
         self.skipped_outside_cone += o.skipped_outside_cone;
         self.skipped_beyond_range += o.skipped_beyond_range;
+        self.retraced += o.retraced;
     }
 }
 
@@ -96,6 +101,12 @@ impl RenderStats {
         if !k.shading_normals {
             out.push("no vertex normals: flat shading normals");
         }
+        if !k.alpha {
+            out.push("no alpha: no any-hit tests");
+        }
+        if !k.cull_back_faces {
+            out.push("no single-sided materials: no back-face culling");
+        }
         if k.typed_lights {
             if !self.features.spot_lights {
                 out.push("no spot lights: no cone tests");
@@ -128,6 +139,12 @@ impl RenderStats {
             r.skipped_outside_cone,
             r.skipped_beyond_range,
         );
+        if r.retraced > 0 {
+            line.push_str(&format!(
+                "; {} rays re-traced past alpha cut-outs and culled back faces",
+                r.retraced
+            ));
+        }
         if self.texture_bytes > 0 {
             line.push_str(&format!(
                 "; textures {:.1} MiB with MIP maps",
@@ -163,6 +180,7 @@ mod tests {
                 skipped_facing_away: 7,
                 skipped_outside_cone: 0,
                 skipped_beyond_range: 0,
+                retraced: 0,
             },
             features,
             kernel: KernelFlags::for_scene(&features, super::super::KernelChoice::Specialised),
@@ -178,6 +196,8 @@ mod tests {
             "7 facing away",
             "no textures: no texcoord interpolation",
             "no spot lights: no cone tests",
+            "no alpha: no any-hit tests",
+            "no single-sided materials: no back-face culling",
             "textures 3.0 MiB with MIP maps",
         ] {
             assert!(line.contains(part), "missing '{part}' in: {line}");

@@ -27,6 +27,8 @@ pub struct SceneFeatures {
     pub shading_normals: bool,
     /// At least one single-sided material (back faces must be detected).
     pub single_sided: bool,
+    /// At least one material with alphaMode MASK or BLEND (hits need an alpha test).
+    pub alpha: bool,
 }
 
 impl SceneFeatures {
@@ -62,6 +64,7 @@ impl SceneFeatures {
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
             f.single_sided |= !material.double_sided;
+            f.alpha |= material.alpha != super::AlphaMode::Opaque;
         }
         f
     }

@@ -50,6 +50,7 @@
 //! unsupported required extension, an image that does not decode.
 
 mod accessors;
+mod alpha;
 mod animation;
 mod error;
 mod instancing;

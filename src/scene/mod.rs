@@ -69,7 +69,8 @@ pub struct Material {
     pub emissive: Vec3,
     /// Emissive texture (sRGB in the file, linear here), multiplied by `emissive`.
     pub emissive_texture: Option<TextureRef>,
-    /// Whether back faces are shaded (otherwise they render black, as glTF specifies).
+    /// Whether back faces are shaded. A single-sided material's back faces are culled for
+    /// camera rays, as glTF specifies, and absorb every other ray (see `docs/alpha.md`).
     pub double_sided: bool,
     /// A procedural base colour (from the material's glTF `extras`), multiplied into ρ like
     /// a base colour texture.
@@ -81,6 +82,27 @@ pub struct Material {
     pub specular: f32,
     /// KHR_materials_specular `specularColorFactor` (white without it): tints f0.
     pub specular_color: Vec3,
+    /// glTF `alphaMode` (with `alphaCutoff`): how the coverage α = baseColorFactor.a ×
+    /// baseColorTexture.a × COLOR_0.a hides the surface (see `docs/alpha.md`).
+    pub alpha: AlphaMode,
+    /// KHR_materials_unlit: the surface shows its base colour as emitted radiance and neither
+    /// reflects nor is lit.
+    pub unlit: bool,
+}
+
+/// glTF's `alphaMode`: what the coverage α of a surface point means.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// α is ignored: the surface is opaque (glTF's default).
+    #[default]
+    Opaque,
+    /// The surface exists where α ≥ `cutoff` and is absent elsewhere (cut-outs).
+    Mask {
+        /// glTF `alphaCutoff` (0.5 when the file gives none).
+        cutoff: f32,
+    },
+    /// The surface covers a fraction α of the point: a ray crosses it with probability 1 − α.
+    Blend,
 }
 
 /// Roughness at or below which a metallic surface is a perfect mirror.
@@ -102,6 +124,8 @@ impl Default for Material {
             ior: 1.5,
             specular: 1.0,
             specular_color: Vec3::ONE,
+            alpha: AlphaMode::Opaque,
+            unlit: false,
         }
     }
 }

@@ -130,6 +130,7 @@ pub fn load(
             MAX_EMISSION,
             "emissiveStrength",
         );
+        let surface = super::alpha::read(&material, &label, origin, &mut clamped);
         materials.push(Material {
             name: material
                 .name()
@@ -161,6 +162,8 @@ pub fn load(
                 .specular()
                 .map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
                 .max(Vec3::ZERO),
+            alpha: surface.alpha,
+            unlit: surface.unlit,
         });
     }
 

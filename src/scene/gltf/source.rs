@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
+    "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     #[cfg(feature = "meshopt")]
