@@ -13,6 +13,7 @@
 
 pub mod lambert;
 pub mod mirror;
+pub mod normal_map;
 pub mod scattering;
 pub mod texture;
 
@@ -51,6 +52,8 @@ pub struct ShadingMaterial {
     pub double_sided: bool,
     /// Procedural base colour, multiplied into ρ.
     pub procedural: Option<crate::texture::ProceduralTexture>,
+    /// Normal map, if it names an existing texture ([`normal_map`]).
+    pub normal_texture: Option<crate::scene::NormalTextureRef>,
 }
 
 impl ShadingMaterial {
@@ -72,6 +75,9 @@ impl ShadingMaterial {
             emissive_texture: valid(&material.emissive_texture),
             double_sided: material.double_sided,
             procedural: material.procedural.clone(),
+            normal_texture: material
+                .normal_texture
+                .filter(|n| n.texture.texture < texture_count),
         }
     }
 

@@ -96,6 +96,9 @@ impl RenderStats {
         if !k.shading_normals {
             out.push("no vertex normals: flat shading normals");
         }
+        if !k.normal_maps {
+            out.push("no normal maps: no tangent frames");
+        }
         if k.typed_lights {
             if !self.features.spot_lights {
                 out.push("no spot lights: no cone tests");
@@ -179,6 +182,7 @@ mod tests {
             "no textures: no texcoord interpolation",
             "no spot lights: no cone tests",
             "textures 3.0 MiB with MIP maps",
+            "no normal maps: no tangent frames",
         ] {
             assert!(line.contains(part), "missing '{part}' in: {line}");
         }

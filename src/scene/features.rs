@@ -27,6 +27,9 @@ pub struct SceneFeatures {
     pub shading_normals: bool,
     /// At least one single-sided material (back faces must be detected).
     pub single_sided: bool,
+    /// At least one material with a normal map (hits build tangent frames; implies
+    /// `textures`).
+    pub normal_maps: bool,
 }
 
 impl SceneFeatures {
@@ -62,7 +65,9 @@ impl SceneFeatures {
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
             f.single_sided |= !material.double_sided;
+            f.normal_maps |= material.normal_texture.is_some();
         }
+        f.textures |= f.normal_maps;
         f
     }
 }

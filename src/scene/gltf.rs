@@ -62,6 +62,7 @@ mod meshopt;
 mod meshopt;
 mod morph;
 mod nodes;
+mod normal_texture;
 mod objects;
 mod primitives;
 mod procedural;
@@ -310,7 +311,13 @@ fn load_bytes(
                         morph_weights: &weights,
                         skin: joints.as_deref(),
                     };
-                    if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                    if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                        normal_texture::ensure_tangents(
+                            &mut built,
+                            &materials,
+                            origin,
+                            &mut warnings,
+                        );
                         scene.meshes.push(built);
                     }
                 }

@@ -9,6 +9,7 @@ pub mod demo;
 pub mod features;
 pub mod gltf;
 pub mod light_spec;
+pub mod tangents;
 pub mod texture_decode;
 
 use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
@@ -81,6 +82,8 @@ pub struct Material {
     pub specular: f32,
     /// KHR_materials_specular `specularColorFactor` (white without it): tints f0.
     pub specular_color: Vec3,
+    /// glTF `normalTexture` and its `scale` (see [`crate::material::normal_map`]).
+    pub normal_texture: Option<NormalTextureRef>,
 }
 
 /// Roughness at or below which a metallic surface is a perfect mirror.
@@ -102,6 +105,7 @@ impl Default for Material {
             ior: 1.5,
             specular: 1.0,
             specular_color: Vec3::ONE,
+            normal_texture: None,
         }
     }
 }
@@ -143,6 +147,17 @@ pub struct TextureRef {
     pub texcoord: usize,
     /// KHR_texture_transform, applied to the texture coordinates (identity if absent).
     pub transform: Affine2,
+}
+
+/// A material's normal map: a tangent-space normal texture (linear RGB, each channel
+/// `(c + 1) / 2`) and glTF's `scale`, which multiplies the decoded normal's x and y before it
+/// is renormalised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalTextureRef {
+    /// The texture (decoded linearly: normal maps are data, not colour).
+    pub texture: TextureRef,
+    /// glTF `normalTexture.scale` (1 without it).
+    pub scale: f32,
 }
 
 /// How texture coordinates outside [0, 1] wrap (glTF sampler wrap modes).
