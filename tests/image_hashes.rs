@@ -43,7 +43,9 @@ fn hash_file(path: &Path) -> u64 {
 
 /// Hashes recorded from commit 4b4f6f1 (the base of the job-model refactor), rendered with
 /// `--integrator direct`. The scenes with emissive surfaces (demo, DamagedHelmet) were
-/// re-recorded when the direct integrator began sampling them as area lights (issue 12).
+/// re-recorded when the direct integrator began sampling them as area lights (issue 12);
+/// DamagedHelmet, the one scene here with a normal map, again when normal maps were applied
+/// (issue 14; every scene without one is unchanged).
 const EXPECTED: &[(&str, u64)] = &[
     ("demo/embree/png", 0x56aa363059c99b94), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/embree/exr", 0x8a6f904e547b0690), // re-recorded: direct light from emissive surfaces (issue 12)
@@ -53,8 +55,8 @@ const EXPECTED: &[(&str, u64)] = &[
     ("Cameras/embree/exr", 0xec7670cafdbd5dd0),
     ("Suzanne/embree/png", 0x3f412146466aca6f),
     ("Suzanne/embree/exr", 0x2a6346390526364b),
-    ("DamagedHelmet/embree/png", 0x8c60541cadb475a1), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("DamagedHelmet/embree/exr", 0x89f9999d8ddc7380), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("DamagedHelmet/embree/png", 0xdc3b615820759fe9), // re-recorded: its normal map is applied (issue 14)
+    ("DamagedHelmet/embree/exr", 0xd535ea58504321d4), // re-recorded: its normal map is applied (issue 14)
     ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/embree/exr", 0x7ba944f7b63e8c7a),
     ("demo/embree/partial", 0xe0d3a2f309b5c479), // re-recorded: direct light from emissive surfaces (issue 12)
@@ -69,8 +71,8 @@ const EXPECTED: &[(&str, u64)] = &[
     ("Cameras/bvh/exr", 0x4a2a966ffdc0eabf),
     ("Suzanne/bvh/png", 0x3f412146466aca6f),
     ("Suzanne/bvh/exr", 0x62ccef9ccb92e89f),
-    ("DamagedHelmet/bvh/png", 0x2df40e67df19335f), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("DamagedHelmet/bvh/exr", 0x58eeeb2667be1fbf), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("DamagedHelmet/bvh/png", 0x93724417e99a8a04), // re-recorded: its normal map is applied (issue 14)
+    ("DamagedHelmet/bvh/exr", 0x7f4c1e182781b987), // re-recorded: its normal map is applied (issue 14)
     ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/bvh/exr", 0x26616c4e1be72457),
     ("demo/bvh/partial", 0x2d03021458abd60d), // re-recorded: direct light from emissive surfaces (issue 12)
