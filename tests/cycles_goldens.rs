@@ -12,7 +12,7 @@
 //! (README fidelity table); the tolerances leave room for 32 spp's noise but not for a wrong
 //! BSDF, a wrong environment mapping or a missing bounce, each of which moves these figures
 //! by several percent. Only models whose features glint renders as the glTF spec says (no
-//! alpha, normal maps, transmission or vertex-colour differences) are held to it here.
+//! alpha, transmission or vertex-colour differences) are held to it here.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -35,6 +35,13 @@ const MODELS: &[(&str, &str)] = &[
     ),
     ("Duck", "glTF-Binary/Duck.glb"),
     ("CesiumMan", "glTF-Binary/CesiumMan.glb"),
+    // Normal maps (generated and supplied tangents) and metallic-roughness textures.
+    ("NormalTangentTest", "glTF-Binary/NormalTangentTest.glb"),
+    (
+        "NormalTangentMirrorTest",
+        "glTF-Binary/NormalTangentMirrorTest.glb",
+    ),
+    ("TwoSidedPlane", "glTF/TwoSidedPlane.gltf"),
 ];
 
 fn khronos(rel: &str) -> PathBuf {

@@ -36,6 +36,8 @@ pub struct ShadingMaterial {
     pub metallic: f32,
     /// glTF perceptual roughness in [0, 1].
     pub roughness: f32,
+    /// Metallic-roughness texture (B × metallic, G × roughness; the path tracer's BRDF).
+    pub metallic_roughness_texture: Option<TextureRef>,
     /// Dielectric index of refraction (KHR_materials_ior).
     pub ior: f32,
     /// KHR_materials_specular factor and colour.
@@ -67,6 +69,7 @@ impl ShadingMaterial {
             diffuse_weight: material.diffuse_weight(),
             metallic: material.metallic,
             roughness: material.roughness,
+            metallic_roughness_texture: valid(&material.metallic_roughness_texture),
             ior: material.ior,
             specular: material.specular,
             specular_color: material.specular_color,

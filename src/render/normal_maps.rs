@@ -1,7 +1,8 @@
-//! Normal mapping at a hit, for both kernels: the normal texture looked up with the hit's
-//! footprint, the perturbed normal from the mesh's tangents ([`crate::material::normal_map`]),
-//! and the horizon rule that keeps it usable. Compiled only into kernel instances whose scene
-//! has normal maps (see [`super::kernel`]).
+//! Per-hit material textures beyond colour, for the kernels: normal mapping in both (the
+//! normal texture looked up with the hit's footprint, the perturbed normal from the mesh's
+//! tangents, [`crate::material::normal_map`], and the horizon rule that keeps it usable;
+//! compiled only into kernel instances whose scene has normal maps, see [`super::kernel`]),
+//! and the metallic-roughness texture in the path tracer (texture kernels only).
 
 use super::integrator::{Footprint, TileContext, texture_value};
 use crate::geometry::SurfaceInteraction;
@@ -32,4 +33,27 @@ pub(super) fn apply(
     let (ns, t) = perturbed_normal(texel, normal.scale, side * si.ns, tangent)?;
     si.ns = keep_reflection_above(side * ns, si.ng, si.wo);
     Some(side * t)
+}
+
+/// The hit's metallic and roughness for the path tracer's BRDF: the material's factors times
+/// its metallic-roughness texture's blue and green channels (glTF), clamped to [0, 1]; the
+/// factors alone without a texture.
+#[inline]
+pub(super) fn metallic_roughness(
+    ctx: &TileContext<'_>,
+    mesh: &Mesh,
+    si: &SurfaceInteraction,
+    footprint: Option<&Footprint>,
+    material: &ShadingMaterial,
+) -> (f32, f32) {
+    match &material.metallic_roughness_texture {
+        Some(t) => {
+            let texel = texture_value(ctx, mesh, si, footprint, t);
+            (
+                (material.metallic * texel.z).clamp(0.0, 1.0),
+                (material.roughness * texel.y).clamp(0.0, 1.0),
+            )
+        }
+        None => (material.metallic, material.roughness),
+    }
 }

@@ -321,7 +321,13 @@ fn shade<
         return;
     }
 
-    let bsdf = SurfaceBsdf::for_material(albedo, material, ctx.delta_only);
+    // The direct integrator's mapping reads the factors only.
+    let metallic_roughness = if TEXTURES && !ctx.delta_only {
+        super::normal_maps::metallic_roughness(ctx, mesh, &si, footprint.as_ref(), material)
+    } else {
+        (material.metallic, material.roughness)
+    };
+    let bsdf = SurfaceBsdf::for_material_at(albedo, metallic_roughness, material, ctx.delta_only);
     let frame = match mapped_tangent {
         Some(t) => Frame::from_normal_tangent(si.ns, t),
         None => Frame::from_normal(si.ns),

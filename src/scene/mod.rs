@@ -66,6 +66,8 @@ pub struct Material {
     pub metallic: f32,
     /// Perceptual roughness in [0, 1].
     pub roughness: f32,
+    /// `metallicRoughnessTexture` (linear): blue multiplies `metallic`, green `roughness`.
+    pub metallic_roughness_texture: Option<TextureRef>,
     /// Emitted radiance factor (W/(m²·sr)), `emissiveFactor × emissive_strength`.
     pub emissive: Vec3,
     /// Emissive texture (sRGB in the file, linear here), multiplied by `emissive`.
@@ -98,6 +100,7 @@ impl Default for Material {
             base_color_texture: None,
             metallic: 1.0,
             roughness: 1.0,
+            metallic_roughness_texture: None,
             emissive: Vec3::ZERO,
             emissive_texture: None,
             double_sided: false,

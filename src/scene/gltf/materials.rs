@@ -26,7 +26,7 @@ struct TextureKey {
 }
 
 /// Converts the document's materials and decodes the textures they use (base colour and
-/// emissive, both sRGB; the normal map, linear). Textures no supported channel uses are never decoded.
+/// emissive, both sRGB; the metallic-roughness and normal maps, linear). Textures no supported channel uses are never decoded.
 pub fn load(
     document: &::gltf::Document,
     buffers: &[Vec<u8>],
@@ -135,6 +135,12 @@ pub fn load(
             ),
             metallic,
             roughness,
+            metallic_roughness_texture: request(
+                pbr.metallic_roughness_texture().map(Into::into),
+                ColorSpace::Linear,
+                "metallic-roughness",
+                &label,
+            ),
             emissive: emissive_factor * emissive_strength,
             emissive_texture: request(
                 material.emissive_texture().map(Into::into),
