@@ -7,7 +7,8 @@
 //! - [`mirror`]: a perfect specular reflection with reflectance `mirror_weight · ρ`.
 //!
 //! Emission is `emissive × emissive texture` (W/(m²·sr)). Back faces of single-sided materials
-//! neither emit nor reflect. Alpha is ignored. [`texture`] holds the bilinear lookup.
+//! neither emit nor reflect. Alpha is ignored. [`texture`] holds the bilinear lookup;
+//! [`normal_map`] turns a normal texture's texel into the shading normal.
 //!
 //! [`Material::diffuse_weight`]: crate::scene::Material::diffuse_weight
 

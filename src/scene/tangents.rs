@@ -236,3 +236,104 @@ fn duplicate_vertices(mesh: &mut Mesh, sources: &[u32]) {
         extend(colors, sources);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two quads side by side in the z = 0 plane, facing +Z, sharing the middle edge; the right
+    /// one's u runs backwards (a UV mirror seam at the shared edge) when `mirrored`.
+    fn two_quads(mirrored: bool) -> Mesh {
+        let positions = vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let right_u = if mirrored { 0.0 } else { 2.0 };
+        // glTF v points down the image: v = 1 at the bottom (y = −1).
+        let uvs = vec![
+            Vec2::new(0.0, 1.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.0, 0.0),
+            Vec2::new(right_u, 1.0),
+            Vec2::new(right_u, 0.0),
+        ];
+        Mesh {
+            positions,
+            indices: vec![[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]],
+            normals: Some(vec![Vec3::Z; 6]),
+            texcoords: [Some(uvs), None],
+            ..Mesh::default()
+        }
+    }
+
+    #[test]
+    fn an_unmirrored_mapping_gets_the_u_direction_and_positive_handedness() {
+        let mut mesh = two_quads(false);
+        let result = generate(&mut mesh, 0).unwrap();
+        assert_eq!(result.split_vertices, 0);
+        for t in mesh.tangents.as_ref().unwrap() {
+            // Tangent along +u = +x; bitangent w·(n × t) = +y, toward decreasing v.
+            assert!((t.truncate() - Vec3::X).length() < 1e-5, "{t}");
+            assert_eq!(t.w, 1.0);
+        }
+    }
+
+    #[test]
+    fn a_uv_mirror_seam_splits_the_shared_vertices() {
+        let mut mesh = two_quads(true);
+        let result = generate(&mut mesh, 0).unwrap();
+        // The two vertices on the seam get one copy each; every attribute array grows with them.
+        assert_eq!(result.split_vertices, 2);
+        assert_eq!(mesh.positions.len(), 8);
+        assert_eq!(mesh.normals.as_ref().unwrap().len(), 8);
+        assert_eq!(mesh.texcoords[0].as_ref().unwrap().len(), 8);
+        let tangents = mesh.tangents.as_ref().unwrap();
+        assert_eq!(tangents.len(), 8);
+        for (face, triangle) in mesh.indices.iter().enumerate() {
+            let (dir, w) = if face < 2 {
+                (Vec3::X, 1.0)
+            } else {
+                (-Vec3::X, -1.0)
+            };
+            for &v in triangle {
+                let t = tangents[v as usize];
+                assert!(
+                    (t.truncate() - dir).length() < 1e-5 && t.w == w,
+                    "face {face}: {t}"
+                );
+            }
+        }
+        // The copies sit where the originals do.
+        assert_eq!(mesh.positions[6], mesh.positions[1]);
+        assert_eq!(mesh.positions[7], mesh.positions[2]);
+    }
+
+    #[test]
+    fn a_missing_uv_set_is_an_error_and_leaves_the_mesh_alone() {
+        let mut mesh = two_quads(false);
+        assert_eq!(
+            generate(&mut mesh, 1),
+            Err(TangentError::MissingTexcoords(1))
+        );
+        assert!(mesh.tangents.is_none());
+        assert_eq!(mesh.positions.len(), 6);
+    }
+
+    #[test]
+    fn flat_meshes_use_their_face_normals() {
+        let mut mesh = two_quads(false);
+        mesh.normals = None;
+        generate(&mut mesh, 0).unwrap();
+        assert!(
+            mesh.tangents
+                .unwrap()
+                .iter()
+                .all(|t| (t.truncate() - Vec3::X).length() < 1e-5)
+        );
+    }
+}
