@@ -301,3 +301,28 @@ fn generated_tangents_agree_with_the_supplied_ones_of_normal_tangent_mirror_test
         "only {close_fraction:.4} of corners within 10°"
     );
 }
+
+/// The loader reads `normalTexture`'s scale and its KHR_texture_transform (offset and the
+/// texCoord override), which the gltf crate leaves as raw JSON on a normalTextureInfo.
+#[test]
+fn the_normal_texture_reads_scale_and_texture_transform() {
+    let (texel, _) = texel_for(Vec3::Z, 1.0);
+    let (mut f, mut rest) = quad_document(texel, 0.25, Some(1.0), json!({}));
+    let uv1 = f.floats(&[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0], "VEC2", 2);
+    rest["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = json!(uv1);
+    rest["materials"][0]["normalTexture"]["extensions"] = json!({
+        "KHR_texture_transform": {"offset": [0.5, 0.25], "texCoord": 1}
+    });
+    rest["extensionsUsed"] = json!(["KHR_materials_specular", "KHR_texture_transform"]);
+    let scene = f.load(rest).expect("loads").scene;
+    let normal = scene.materials[0]
+        .normal_texture
+        .expect("normal texture read");
+    assert_eq!(normal.scale, 0.25);
+    assert_eq!(normal.texture.texcoord, 1);
+    let moved = normal.texture.transform.transform_point2(glam::Vec2::ZERO);
+    assert!(
+        (moved - glam::Vec2::new(0.5, 0.25)).length() < 1e-6,
+        "{moved}"
+    );
+}
