@@ -12,7 +12,7 @@
 //! (README fidelity table); the tolerances leave room for 32 spp's noise but not for a wrong
 //! BSDF, a wrong environment mapping or a missing bounce, each of which moves these figures
 //! by several percent. Only models whose features glint renders as the glTF spec says (no
-//! alpha, normal maps, transmission or vertex-colour differences) are held to it here.
+//! alpha, transmission or vertex-colour differences) are held to it here.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -38,6 +38,13 @@ const MODELS: &[(&str, &str)] = &[
     // Single-sided culling (camera rays) in the top row, which Cycles does not cull: a small
     // region, 0.45 % mean and 0.54 % blocks over the whole image (issue 14).
     ("TextureSettingsTest", "glTF-Binary/TextureSettingsTest.glb"),
+    // Normal maps (generated and supplied tangents) and metallic-roughness textures.
+    ("NormalTangentTest", "glTF-Binary/NormalTangentTest.glb"),
+    (
+        "NormalTangentMirrorTest",
+        "glTF-Binary/NormalTangentMirrorTest.glb",
+    ),
+    ("TwoSidedPlane", "glTF/TwoSidedPlane.gltf"),
 ];
 
 fn khronos(rel: &str) -> PathBuf {

@@ -9,12 +9,14 @@
 //! Emission is `emissive × emissive texture` (W/(m²·sr)). Back faces of single-sided materials
 //! neither emit nor reflect (camera rays cull them). Alpha coverage decides which hits count
 //! (`render::visibility`); an unlit material (KHR_materials_unlit) emits ρ and scatters
-//! nothing. [`texture`] holds the bilinear lookup.
+//! nothing. [`texture`] holds the bilinear lookup; [`normal_map`] turns a normal texture's
+//! texel into the shading normal.
 //!
 //! [`Material::diffuse_weight`]: crate::scene::Material::diffuse_weight
 
 pub mod lambert;
 pub mod mirror;
+pub mod normal_map;
 pub mod scattering;
 pub mod texture;
 
@@ -37,6 +39,8 @@ pub struct ShadingMaterial {
     pub metallic: f32,
     /// glTF perceptual roughness in [0, 1].
     pub roughness: f32,
+    /// Metallic-roughness texture (B × metallic, G × roughness; the path tracer's BRDF).
+    pub metallic_roughness_texture: Option<TextureRef>,
     /// Dielectric index of refraction (KHR_materials_ior).
     pub ior: f32,
     /// KHR_materials_specular factor and colour.
@@ -55,6 +59,8 @@ pub struct ShadingMaterial {
     pub procedural: Option<crate::texture::ProceduralTexture>,
     /// KHR_materials_unlit: emits ρ as radiance, neither reflects nor is lit.
     pub unlit: bool,
+    /// Normal map, if it names an existing texture ([`normal_map`]).
+    pub normal_texture: Option<crate::scene::NormalTextureRef>,
 }
 
 impl ShadingMaterial {
@@ -68,6 +74,7 @@ impl ShadingMaterial {
             diffuse_weight: material.diffuse_weight(),
             metallic: material.metallic,
             roughness: material.roughness,
+            metallic_roughness_texture: valid(&material.metallic_roughness_texture),
             ior: material.ior,
             specular: material.specular,
             specular_color: material.specular_color,
@@ -77,6 +84,9 @@ impl ShadingMaterial {
             double_sided: material.double_sided,
             procedural: material.procedural.clone(),
             unlit: material.unlit,
+            normal_texture: material
+                .normal_texture
+                .filter(|n| n.texture.texture < texture_count),
         }
     }
 

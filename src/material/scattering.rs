@@ -130,6 +130,24 @@ impl SurfaceBsdf {
         material: &crate::material::ShadingMaterial,
         delta_only: bool,
     ) -> Self {
+        Self::for_material_at(
+            base_color,
+            (material.metallic, material.roughness),
+            material,
+            delta_only,
+        )
+    }
+
+    /// [`SurfaceBsdf::for_material`] with the hit's own metallic and roughness (the factors
+    /// times the metallic-roughness texture) for the path tracer's BRDF; the direct
+    /// integrator's mapping keeps the material's factors.
+    #[inline]
+    pub fn for_material_at(
+        base_color: Vec3,
+        (metallic, roughness): (f32, f32),
+        material: &crate::material::ShadingMaterial,
+        delta_only: bool,
+    ) -> Self {
         if delta_only {
             SurfaceBsdf::DiffuseMirror(DiffuseMirror::new(
                 base_color * material.diffuse_weight,
@@ -138,7 +156,7 @@ impl SurfaceBsdf {
             ))
         } else {
             SurfaceBsdf::MetallicRoughness(
-                MetallicRoughnessBsdf::new(base_color, material.metallic, material.roughness)
+                MetallicRoughnessBsdf::new(base_color, metallic, roughness)
                     .with_dielectric_fresnel(
                         material.ior,
                         material.specular,

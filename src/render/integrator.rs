@@ -132,6 +132,7 @@ pub(crate) fn render_tile<
     const MIRRORS: bool,
     const VERTEX_COLORS: bool,
     const SHADING_NORMALS: bool,
+    const NORMAL_MAPS: bool,
 >(
     ctx: &TileContext<'_>,
     pass: Pass,
@@ -175,7 +176,7 @@ pub(crate) fn render_tile<
                 };
                 let ray = s.rays[i];
                 let diff = if carry { s.diffs.get(i) } else { None };
-                shade_hit::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS>(
+                shade_hit::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS, NORMAL_MAPS>(
                     ctx,
                     &ray,
                     diff,
@@ -380,7 +381,12 @@ pub(super) fn trace_shadows(
 /// light sampling and the mirror part as a reflection ray.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS: bool>(
+fn shade_hit<
+    const TEXTURES: bool,
+    const VERTEX_COLORS: bool,
+    const SHADING_NORMALS: bool,
+    const NORMAL_MAPS: bool,
+>(
     ctx: &TileContext<'_>,
     ray: &Ray,
     diff: Option<&RayDifferential>,
@@ -412,6 +418,9 @@ fn shade_hit<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORM
     } else {
         None
     };
+    if NORMAL_MAPS {
+        super::normal_maps::apply(ctx, mesh, &mut si, footprint.as_ref(), material);
+    }
     let (albedo, emission) =
         surface_colors::<TEXTURES, VERTEX_COLORS>(ctx, mesh, &si, footprint.as_ref(), material);
 

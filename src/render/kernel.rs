@@ -1,7 +1,8 @@
 //! Shading kernels specialised for what a scene uses.
 //!
-//! The tile integrator is generic over four compile-time switches: texture lookups, mirror
-//! reflections, vertex colours and interpolated shading normals. `select` picks the
+//! The tile integrator is generic over five compile-time switches: texture lookups, mirror
+//! reflections, vertex colours, interpolated shading normals and normal maps (tangent
+//! frames; only in instances with textures). `select` picks the
 //! instance whose switches match the scene's [`SceneFeatures`], so per-hit work the scene
 //! cannot need is not compiled into the loop that runs. Lights are specialised separately:
 //! [`LightSet`](crate::light::LightSet) keeps one list per light type and range kind, each
@@ -39,6 +40,8 @@ pub struct KernelFlags {
     pub vertex_colors: bool,
     /// Interpolates vertex normals.
     pub shading_normals: bool,
+    /// Reads normal maps and builds tangent frames (only with `textures`).
+    pub normal_maps: bool,
     /// Loops over lights per type (false: one run-time typed list).
     pub typed_lights: bool,
     /// The path kernel runs (path tracing, or direct light with area or environment lights):
@@ -64,6 +67,7 @@ impl KernelFlags {
                 mirrors: features.mirrors,
                 vertex_colors: features.vertex_colors,
                 shading_normals: features.shading_normals,
+                normal_maps: features.normal_maps,
                 typed_lights: true,
                 path: false,
                 area_lights: false,
@@ -76,6 +80,7 @@ impl KernelFlags {
                 mirrors: true,
                 vertex_colors: true,
                 shading_normals: true,
+                normal_maps: true,
                 typed_lights: false,
                 path: false,
                 area_lights: false,
@@ -90,18 +95,29 @@ impl KernelFlags {
 /// A tile renderer: one monomorphised instance of the integrator.
 pub(crate) type TileFn = fn(&TileContext<'_>, Pass, &Tile, &mut Scratch) -> (TileSums, RayCounts);
 
-/// The path-tracing instance for `flags` (mirrors are part of every BSDF there).
+/// The path-tracing instance for `flags` (mirrors are part of every BSDF there). Normal maps
+/// are texture lookups, so their instances exist only with textures on.
 pub(crate) fn select_path(flags: &KernelFlags) -> TileFn {
     use super::path::render_tile_path;
-    match (flags.textures, flags.vertex_colors, flags.shading_normals) {
-        (false, false, false) => render_tile_path::<false, false, false>,
-        (false, false, true) => render_tile_path::<false, false, true>,
-        (false, true, false) => render_tile_path::<false, true, false>,
-        (false, true, true) => render_tile_path::<false, true, true>,
-        (true, false, false) => render_tile_path::<true, false, false>,
-        (true, false, true) => render_tile_path::<true, false, true>,
-        (true, true, false) => render_tile_path::<true, true, false>,
-        (true, true, true) => render_tile_path::<true, true, true>,
+    let normal_maps = flags.normal_maps && flags.textures;
+    match (
+        flags.textures,
+        flags.vertex_colors,
+        flags.shading_normals,
+        normal_maps,
+    ) {
+        (false, false, false, _) => render_tile_path::<false, false, false, false>,
+        (false, false, true, _) => render_tile_path::<false, false, true, false>,
+        (false, true, false, _) => render_tile_path::<false, true, false, false>,
+        (false, true, true, _) => render_tile_path::<false, true, true, false>,
+        (true, false, false, false) => render_tile_path::<true, false, false, false>,
+        (true, false, true, false) => render_tile_path::<true, false, true, false>,
+        (true, true, false, false) => render_tile_path::<true, true, false, false>,
+        (true, true, true, false) => render_tile_path::<true, true, true, false>,
+        (true, false, false, true) => render_tile_path::<true, false, false, true>,
+        (true, false, true, true) => render_tile_path::<true, false, true, true>,
+        (true, true, false, true) => render_tile_path::<true, true, false, true>,
+        (true, true, true, true) => render_tile_path::<true, true, true, true>,
     }
 }
 
@@ -110,9 +126,22 @@ pub(crate) fn select(flags: &KernelFlags) -> TileFn {
     macro_rules! pick {
         ($($t:literal $m:literal $c:literal $n:literal),* $(,)?) => {
             match (flags.textures, flags.mirrors, flags.vertex_colors, flags.shading_normals) {
-                $(($t, $m, $c, $n) => render_tile::<$t, $m, $c, $n>,)*
+                $(($t, $m, $c, $n) => render_tile::<$t, $m, $c, $n, false>,)*
             }
         };
+    }
+    macro_rules! pick_mapped {
+        ($($m:literal $c:literal $n:literal),* $(,)?) => {
+            match (flags.mirrors, flags.vertex_colors, flags.shading_normals) {
+                $(($m, $c, $n) => render_tile::<true, $m, $c, $n, true>,)*
+            }
+        };
+    }
+    if flags.normal_maps && flags.textures {
+        return pick_mapped!(
+            false false false, false false true, false true false, false true true,
+            true false false, true false true, true true false, true true true,
+        );
     }
     pick!(
         false false false false, false false false true, false false true false,

@@ -103,6 +103,7 @@ pub(crate) fn render_tile_path<
     const TEXTURES: bool,
     const VERTEX_COLORS: bool,
     const SHADING_NORMALS: bool,
+    const NORMAL_MAPS: bool,
 >(
     ctx: &TileContext<'_>,
     pass: Pass,
@@ -164,7 +165,7 @@ pub(crate) fn render_tile_path<
                     depth,
                     diff: footprint_source,
                 };
-                shade::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS>(
+                shade::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS, NORMAL_MAPS>(
                     ctx,
                     &mut vertex,
                     &mut sums,
@@ -262,7 +263,12 @@ struct Queues<'q> {
 
 /// Shades one path vertex: AOVs (camera rays), emission, light samples, the next ray.
 #[inline(always)]
-fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS: bool>(
+fn shade<
+    const TEXTURES: bool,
+    const VERTEX_COLORS: bool,
+    const SHADING_NORMALS: bool,
+    const NORMAL_MAPS: bool,
+>(
     ctx: &TileContext<'_>,
     v: &mut Vertex<'_>,
     sums: &mut TileSums,
@@ -282,6 +288,11 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
     let lit = si.front_face || material.double_sided;
     let footprint = if TEXTURES {
         v.diff.and_then(|rd| Footprint::at(mesh, &si, rd))
+    } else {
+        None
+    };
+    let mapped_tangent = if NORMAL_MAPS {
+        super::normal_maps::apply(ctx, mesh, &mut si, footprint.as_ref(), material)
     } else {
         None
     };
@@ -318,8 +329,17 @@ fn shade<const TEXTURES: bool, const VERTEX_COLORS: bool, const SHADING_NORMALS:
         return;
     }
 
-    let bsdf = SurfaceBsdf::for_material(albedo, material, ctx.delta_only);
-    let frame = Frame::from_normal(si.ns);
+    // The direct integrator's mapping reads the factors only.
+    let metallic_roughness = if TEXTURES && !ctx.delta_only {
+        super::normal_maps::metallic_roughness(ctx, mesh, &si, footprint.as_ref(), material)
+    } else {
+        (material.metallic, material.roughness)
+    };
+    let bsdf = SurfaceBsdf::for_material_at(albedo, metallic_roughness, material, ctx.delta_only);
+    let frame = match mapped_tangent {
+        Some(t) => Frame::from_normal_tangent(si.ns, t),
+        None => Frame::from_normal(si.ns),
+    };
     let wo = frame.to_local(si.wo);
     if !bsdf.is_delta() {
         sample_lights::<TEXTURES>(ctx, &si, &frame, wo, &bsdf, path, q);

@@ -101,6 +101,9 @@ impl RenderStats {
         if !k.shading_normals {
             out.push("no vertex normals: flat shading normals");
         }
+        if !k.normal_maps {
+            out.push("no normal maps: no tangent frames");
+        }
         if !k.alpha {
             out.push("no alpha: no any-hit tests");
         }
@@ -199,6 +202,7 @@ mod tests {
             "no alpha: no any-hit tests",
             "no single-sided materials: no back-face culling",
             "textures 3.0 MiB with MIP maps",
+            "no normal maps: no tangent frames",
         ] {
             assert!(line.contains(part), "missing '{part}' in: {line}");
         }

@@ -15,7 +15,8 @@ pub struct SceneFeatures {
     pub directional_lights: bool,
     /// At least one light with a finite range.
     pub light_ranges: bool,
-    /// At least one material with a base colour or emissive texture, or a procedural one.
+    /// At least one material with a base colour, emissive, metallic-roughness or normal
+    /// texture, or a procedural one.
     pub textures: bool,
     /// At least one material with a mirror lobe.
     pub mirrors: bool,
@@ -29,6 +30,9 @@ pub struct SceneFeatures {
     pub single_sided: bool,
     /// At least one material with alphaMode MASK or BLEND (hits need an alpha test).
     pub alpha: bool,
+    /// At least one material with a normal map (hits build tangent frames; implies
+    /// `textures`).
+    pub normal_maps: bool,
 }
 
 impl SceneFeatures {
@@ -61,11 +65,14 @@ impl SceneFeatures {
             f.textures |=
                 material.base_color_texture.is_some() || material.emissive_texture.is_some();
             f.textures |= material.procedural.is_some();
+            f.textures |= material.metallic_roughness_texture.is_some();
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
             f.single_sided |= !material.double_sided;
             f.alpha |= material.alpha != super::AlphaMode::Opaque;
+            f.normal_maps |= material.normal_texture.is_some();
         }
+        f.textures |= f.normal_maps;
         f
     }
 }

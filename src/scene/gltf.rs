@@ -22,7 +22,10 @@
 //! - EXT_mesh_gpu_instancing, flattened into one mesh per instance (`instancing`).
 //! - Materials: baseColorFactor and baseColorTexture, metallicFactor, roughnessFactor,
 //!   emissiveFactor × KHR_materials_emissive_strength, emissiveTexture, doubleSided, name;
-//!   KHR_texture_transform on either texture (with its texCoord override). A primitive
+//!   metallicRoughnessTexture; normalTexture with scale (`normal_texture`; MikkTSpace
+//!   tangents generated for its meshes when the file has no TANGENT, see
+//!   [`crate::scene::tangents`]); KHR_texture_transform on every texture (with its texCoord
+//!   override). A primitive
 //!   without a material gets glTF's default (white, metallic 1, roughness 1, single-sided).
 //! - Textures: PNG, JPEG and (EXT_texture_webp) WebP from files, data URIs or buffer views; base colour and emissive
 //!   decoded from sRGB to linear with the exact sRGB curve; sampler wrap modes and the
@@ -34,7 +37,7 @@
 //!
 //! # Ignored
 //! - Animations when no time is given (one warning; the rest pose renders).
-//! - metallicRoughnessTexture, normalTexture, occlusionTexture, alphaMode / alphaCutoff,
+//! - occlusionTexture, alphaMode / alphaCutoff,
 //!   texture minification filters, the camera's znear / zfar.
 //! - KHR_materials_* extensions other than emissive_strength, and every other extension:
 //!   a file that lists some as *required* is refused naming all of them (with advice for
@@ -63,6 +66,7 @@ mod meshopt;
 mod meshopt;
 mod morph;
 mod nodes;
+mod normal_texture;
 mod objects;
 mod primitives;
 mod procedural;
@@ -311,7 +315,13 @@ fn load_bytes(
                         morph_weights: &weights,
                         skin: joints.as_deref(),
                     };
-                    if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                    if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                        normal_texture::ensure_tangents(
+                            &mut built,
+                            &materials,
+                            origin,
+                            &mut warnings,
+                        );
                         scene.meshes.push(built);
                     }
                 }

@@ -9,6 +9,7 @@ pub mod demo;
 pub mod features;
 pub mod gltf;
 pub mod light_spec;
+pub mod tangents;
 pub mod texture_decode;
 
 use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
@@ -65,6 +66,8 @@ pub struct Material {
     pub metallic: f32,
     /// Perceptual roughness in [0, 1].
     pub roughness: f32,
+    /// `metallicRoughnessTexture` (linear): blue multiplies `metallic`, green `roughness`.
+    pub metallic_roughness_texture: Option<TextureRef>,
     /// Emitted radiance factor (W/(m²·sr)), `emissiveFactor × emissive_strength`.
     pub emissive: Vec3,
     /// Emissive texture (sRGB in the file, linear here), multiplied by `emissive`.
@@ -82,6 +85,8 @@ pub struct Material {
     pub specular: f32,
     /// KHR_materials_specular `specularColorFactor` (white without it): tints f0.
     pub specular_color: Vec3,
+    /// glTF `normalTexture` and its `scale` (see [`crate::material::normal_map`]).
+    pub normal_texture: Option<NormalTextureRef>,
     /// glTF `alphaMode` (with `alphaCutoff`): how the coverage α = baseColorFactor.a ×
     /// baseColorTexture.a × COLOR_0.a hides the surface (see `docs/alpha.md`).
     pub alpha: AlphaMode,
@@ -117,6 +122,7 @@ impl Default for Material {
             base_color_texture: None,
             metallic: 1.0,
             roughness: 1.0,
+            metallic_roughness_texture: None,
             emissive: Vec3::ZERO,
             emissive_texture: None,
             double_sided: false,
@@ -126,6 +132,7 @@ impl Default for Material {
             specular_color: Vec3::ONE,
             alpha: AlphaMode::Opaque,
             unlit: false,
+            normal_texture: None,
         }
     }
 }
@@ -167,6 +174,17 @@ pub struct TextureRef {
     pub texcoord: usize,
     /// KHR_texture_transform, applied to the texture coordinates (identity if absent).
     pub transform: Affine2,
+}
+
+/// A material's normal map: a tangent-space normal texture (linear RGB, each channel
+/// `(c + 1) / 2`) and glTF's `scale`, which multiplies the decoded normal's x and y before it
+/// is renormalised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalTextureRef {
+    /// The texture (decoded linearly: normal maps are data, not colour).
+    pub texture: TextureRef,
+    /// glTF `normalTexture.scale` (1 without it).
+    pub scale: f32,
 }
 
 /// How texture coordinates outside [0, 1] wrap (glTF sampler wrap modes).

@@ -2,6 +2,7 @@
 
 use super::LoadError;
 use super::limits::{self, MAX_EMISSION};
+use super::normal_texture::{self, TextureSlot};
 use super::source::{Origin, read_uri, view_bytes};
 use crate::scene::texture_decode::{ColorSpace, DecodedImage, decode_image, image_dimensions};
 use crate::scene::{MagFilter, Material, Texture, TextureRef, WrapMode};
@@ -25,7 +26,7 @@ struct TextureKey {
 }
 
 /// Converts the document's materials and decodes the textures they use (base colour and
-/// emissive, both sRGB). Textures no supported channel uses are never decoded.
+/// emissive, both sRGB; the metallic-roughness and normal maps, linear). Textures no supported channel uses are never decoded.
 pub fn load(
     document: &::gltf::Document,
     buffers: &[Vec<u8>],
@@ -34,20 +35,11 @@ pub fn load(
 ) -> Result<Materials, LoadError> {
     let mut keys: Vec<TextureKey> = Vec::new();
     let mut slots: HashMap<TextureKey, usize> = HashMap::new();
-    let mut request = |info: Option<::gltf::texture::Info<'_>>,
-                       space,
-                       channel: &str,
-                       material: &str| {
-        let info = info?;
-        let mut transform = info.texture_transform();
+    let mut request = |slot: Option<TextureSlot>, space, channel: &str, material: &str| {
+        let info = slot?;
+        let mut transform = info.transform;
         if let Some(t) = &transform {
-            let values = [
-                t.offset()[0],
-                t.offset()[1],
-                t.rotation(),
-                t.scale()[0],
-                t.scale()[1],
-            ];
+            let values = [t.offset[0], t.offset[1], t.rotation, t.scale[0], t.scale[1]];
             if !values.iter().all(|v| v.is_finite() && v.abs() <= 1e9) {
                 warnings.push(format!(
                     "{}: {material}: {channel} texture's KHR_texture_transform has non-finite or absurd \
@@ -59,8 +51,8 @@ pub fn load(
         }
         let texcoord = transform
             .as_ref()
-            .and_then(|t| t.tex_coord())
-            .unwrap_or(info.tex_coord()) as usize;
+            .and_then(|t| t.tex_coord)
+            .unwrap_or(info.tex_coord) as usize;
         if texcoord > 1 {
             warnings.push(format!(
                 "{}: {material}: {channel} texture reads TEXCOORD_{texcoord}; glint keeps TEXCOORD_0 and _1 only, \
@@ -70,7 +62,7 @@ pub fn load(
             return None;
         }
         let key = TextureKey {
-            texture: info.texture().index(),
+            texture: info.texture,
             space,
         };
         let next = keys.len();
@@ -82,7 +74,7 @@ pub fn load(
             texture,
             texcoord,
             transform: transform.map_or(Affine2::IDENTITY, |t| {
-                uv_transform(t.offset(), t.rotation(), t.scale())
+                uv_transform(t.offset, t.rotation, t.scale)
             }),
         })
     };
@@ -137,16 +129,22 @@ pub fn load(
                 .map_or_else(|| label.clone(), str::to_string),
             base_color,
             base_color_texture: request(
-                pbr.base_color_texture(),
+                pbr.base_color_texture().map(Into::into),
                 ColorSpace::Srgb,
                 "base colour",
                 &label,
             ),
             metallic,
             roughness,
+            metallic_roughness_texture: request(
+                pbr.metallic_roughness_texture().map(Into::into),
+                ColorSpace::Linear,
+                "metallic-roughness",
+                &label,
+            ),
             emissive: emissive_factor * emissive_strength,
             emissive_texture: request(
-                material.emissive_texture(),
+                material.emissive_texture().map(Into::into),
                 ColorSpace::Srgb,
                 "emissive",
                 &label,
@@ -164,6 +162,13 @@ pub fn load(
                 .max(Vec3::ZERO),
             alpha: surface.alpha,
             unlit: surface.unlit,
+            normal_texture: normal_texture::read(
+                &material,
+                &mut request,
+                &label,
+                origin,
+                &mut clamped,
+            ),
         });
     }
 
