@@ -12,6 +12,7 @@
 //! [`Material::diffuse_weight`]: crate::scene::Material::diffuse_weight
 
 pub mod lambert;
+pub mod layers;
 pub mod mirror;
 pub mod scattering;
 pub mod texture;
@@ -51,6 +52,8 @@ pub struct ShadingMaterial {
     pub double_sided: bool,
     /// Procedural base colour, multiplied into ρ.
     pub procedural: Option<crate::texture::ProceduralTexture>,
+    /// KHR_materials clear coat, sheen, transmission and volume (`None` without any).
+    pub layers: Option<layers::ShadingLayers>,
 }
 
 impl ShadingMaterial {
@@ -72,6 +75,7 @@ impl ShadingMaterial {
             emissive_texture: valid(&material.emissive_texture),
             double_sided: material.double_sided,
             procedural: material.procedural.clone(),
+            layers: layers::ShadingLayers::of(material),
         }
     }
 

@@ -27,6 +27,10 @@ pub struct SceneFeatures {
     pub shading_normals: bool,
     /// At least one single-sided material (back faces must be detected).
     pub single_sided: bool,
+    /// At least one material with KHR_materials layers (clear coat, sheen, transmission):
+    /// both integrators shade it with the layered BSDF, so the direct integrator runs the path
+    /// kernel's delta-only mode for such scenes.
+    pub layered_materials: bool,
 }
 
 impl SceneFeatures {
@@ -62,6 +66,9 @@ impl SceneFeatures {
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
             f.single_sided |= !material.double_sided;
+            f.layered_materials |= material.clearcoat.is_some()
+                || material.sheen.is_some()
+                || material.transmission.is_some();
         }
         f
     }

@@ -130,6 +130,7 @@ pub fn load(
             MAX_EMISSION,
             "emissiveStrength",
         );
+        let layers = super::material_layers::read(&material, &label, origin, &mut clamped);
         materials.push(Material {
             name: material
                 .name()
@@ -161,6 +162,10 @@ pub fn load(
                 .specular()
                 .map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
                 .max(Vec3::ZERO),
+            clearcoat: layers.clearcoat,
+            sheen: layers.sheen,
+            transmission: layers.transmission,
+            volume: layers.volume,
         });
     }
 
