@@ -156,8 +156,8 @@ impl DielectricBsdf {
         Some(h)
     }
 
-    /// `(pdf of the microfacet for wo, d m / d wi)` pieces: the visible-normal density of `m`
-    /// seen from `wo` turned to +Z.
+    /// The visible-normal density of `m` seen from `wo` turned to +Z (the sampler draws `m`
+    /// that way).
     #[inline]
     fn visible(&self, wo: Vec3, m: Vec3) -> f32 {
         let w = if wo.z < 0.0 { -wo } else { wo };
