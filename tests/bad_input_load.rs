@@ -332,13 +332,52 @@ fn unsupported_required_extension_is_named() {
 #[test]
 fn used_but_unsupported_extension_is_a_warning() {
     let (fixture, mut rest) = triangle_fixture();
-    rest["extensionsUsed"] = json!(["KHR_materials_clearcoat"]);
+    // (KHR_materials_clearcoat was the example until glint read it.)
+    rest["extensionsUsed"] = json!(["KHR_materials_iridescence"]);
     let loaded = fixture.load(rest).unwrap();
     assert_eq!(loaded.warnings.len(), 1);
     assert!(
-        loaded.warnings[0].contains("KHR_materials_clearcoat")
+        loaded.warnings[0].contains("KHR_materials_iridescence")
             && loaded.warnings[0].contains("ignored")
     );
+}
+
+/// Malformed layer factors fall back to their defaults with a warning naming the material,
+/// the extension and the field; out-of-range ones are clamped; an unapplied texture is named.
+#[test]
+fn bad_material_layer_fields_are_warned_about() {
+    let (fixture, mut rest) = triangle_fixture();
+    rest["extensionsUsed"] = json!(["KHR_materials_clearcoat", "KHR_materials_sheen"]);
+    rest["meshes"][0]["primitives"][0]["material"] = json!(0);
+    rest["materials"] = json!([{
+        "name": "coated",
+        "extensions": {
+            "KHR_materials_clearcoat": {
+                "clearcoatFactor": 7.0,
+                "clearcoatRoughnessFactor": "rough",
+                "clearcoatNormalTexture": {"index": 0}
+            },
+            "KHR_materials_sheen": {"sheenColorFactor": [1, 2]}
+        }
+    }]);
+    let loaded = fixture.load(rest).unwrap();
+    let all = loaded.warnings.join("\n");
+    for part in [
+        "coated",
+        "KHR_materials_clearcoat.clearcoatFactor is 7, outside [0, 1]; clamped to 1",
+        "KHR_materials_clearcoat.clearcoatRoughnessFactor is not a number",
+        "clearcoatNormalTexture is not yet applied",
+        "KHR_materials_sheen.sheenColorFactor is not an array of three numbers",
+    ] {
+        assert!(all.contains(part), "no {part:?} in:\n{all}");
+    }
+    let m = &loaded.scene.materials[0];
+    assert_eq!(
+        m.clearcoat.map(|c| (c.factor, c.roughness)),
+        Some((1.0, 0.0))
+    );
+    // Sheen colour defaults to black: no sheen layer.
+    assert!(m.sheen.is_none());
 }
 
 #[test]

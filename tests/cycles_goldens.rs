@@ -12,7 +12,8 @@
 //! (README fidelity table); the tolerances leave room for 32 spp's noise but not for a wrong
 //! BSDF, a wrong environment mapping or a missing bounce, each of which moves these figures
 //! by several percent. Only models whose features glint renders as the glTF spec says (no
-//! alpha, transmission or vertex-colour differences) are held to it here.
+//! alpha, normal maps or vertex-colour differences, or whose differences stay inside the
+//! tolerance: ClearCoatTest and GlassVaseFlowers, see their entries) are held to it here.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -45,6 +46,12 @@ const MODELS: &[(&str, &str)] = &[
         "glTF-Binary/NormalTangentMirrorTest.glb",
     ),
     ("TwoSidedPlane", "glTF/TwoSidedPlane.gltf"),
+    // KHR_materials_clearcoat (its textures and coat normals are not applied yet, and the
+    // alpha-blended labels render opaque: together 0.15 % on the block error at 32 spp).
+    ("ClearCoatTest", "glTF-Binary/ClearCoatTest.glb"),
+    // KHR_materials_transmission + KHR_materials_volume (refracting glass; the second vase's
+    // alpha blend renders opaque): 0.9 % on the block error, 0.1 % on the mean at 32 spp.
+    ("GlassVaseFlowers", "glTF-Binary/GlassVaseFlowers.glb"),
 ];
 
 fn khronos(rel: &str) -> PathBuf {

@@ -10,13 +10,21 @@
 //!
 //! One BSDF per file, each with its formula in its doc block.
 
+pub mod clearcoat;
+pub mod dielectric;
 pub mod lambert;
+pub mod layered;
 pub mod metallic_roughness;
 pub mod microfacet;
+pub mod sheen;
 
+pub use clearcoat::ClearcoatBsdf;
+pub use dielectric::DielectricBsdf;
 pub use lambert::LambertBsdf;
+pub use layered::LayeredBsdf;
 pub use metallic_roughness::MetallicRoughnessBsdf;
 pub use microfacet::TrowbridgeReitz;
+pub use sheen::SheenBsdf;
 
 use glam::{Vec2, Vec3};
 

@@ -15,6 +15,7 @@
 //! [`Material::diffuse_weight`]: crate::scene::Material::diffuse_weight
 
 pub mod lambert;
+pub mod layers;
 pub mod mirror;
 pub mod normal_map;
 pub mod scattering;
@@ -61,6 +62,8 @@ pub struct ShadingMaterial {
     pub unlit: bool,
     /// Normal map, if it names an existing texture ([`normal_map`]).
     pub normal_texture: Option<crate::scene::NormalTextureRef>,
+    /// KHR_materials clear coat, sheen, transmission and volume (`None` without any).
+    pub layers: Option<layers::ShadingLayers>,
 }
 
 impl ShadingMaterial {
@@ -87,6 +90,7 @@ impl ShadingMaterial {
             normal_texture: material
                 .normal_texture
                 .filter(|n| n.texture.texture < texture_count),
+            layers: layers::ShadingLayers::of(material),
         }
     }
 

@@ -12,7 +12,9 @@
 //! ([`MetallicRoughnessBsdf`]): [`SurfaceBsdf`] is the one type both kernels hand to their
 //! light sampling and continuation code.
 
-use crate::bsdf::{Bsdf, BsdfSample, LambertBsdf, MetallicRoughnessBsdf, same_hemisphere};
+use crate::bsdf::{
+    Bsdf, BsdfSample, LambertBsdf, LayeredBsdf, MetallicRoughnessBsdf, same_hemisphere,
+};
 use crate::material::reflect;
 use glam::{Vec2, Vec3};
 
@@ -118,6 +120,8 @@ pub enum SurfaceBsdf {
     DiffuseMirror(DiffuseMirror),
     /// The glTF metallic-roughness BRDF (the path tracer).
     MetallicRoughness(MetallicRoughnessBsdf),
+    /// The metallic-roughness BRDF with KHR_materials layers (both integrators).
+    Layered(LayeredBsdf),
 }
 
 impl SurfaceBsdf {
@@ -167,12 +171,44 @@ impl SurfaceBsdf {
     }
 }
 
+impl SurfaceBsdf {
+    /// The BSDF at a hit: [`SurfaceBsdf::for_material`] for materials without
+    /// KHR_materials layers; with layers, the [`LayeredBsdf`] in both integrators (the
+    /// direct one lights its non-delta lobes by light sampling and follows its delta lobes).
+    /// `front_face` says whether the ray arrived from outside (for a volume's ior ratio);
+    /// `(metallic, roughness)` are the hit's own (factors times the metallic-roughness
+    /// texture).
+    #[inline]
+    pub fn for_hit(
+        base_color: Vec3,
+        (metallic, roughness): (f32, f32),
+        material: &crate::material::ShadingMaterial,
+        delta_only: bool,
+        front_face: bool,
+    ) -> Self {
+        let Some(layers) = &material.layers else {
+            return Self::for_material_at(base_color, (metallic, roughness), material, delta_only);
+        };
+        let base = MetallicRoughnessBsdf::new(base_color, metallic, roughness)
+            .with_dielectric_fresnel(material.ior, material.specular, material.specular_color);
+        SurfaceBsdf::Layered(layers.bsdf(base, base_color, roughness, material.ior, front_face))
+    }
+
+    /// Whether the BSDF may transmit (light samples and continuations below the surface are
+    /// then allowed).
+    #[inline]
+    pub fn transmits(&self) -> bool {
+        matches!(self, SurfaceBsdf::Layered(b) if b.transmission.is_some())
+    }
+}
+
 impl Bsdf for SurfaceBsdf {
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         match self {
             SurfaceBsdf::DiffuseMirror(b) => b.eval(wo, wi),
             SurfaceBsdf::MetallicRoughness(b) => b.eval(wo, wi),
+            SurfaceBsdf::Layered(b) => b.eval(wo, wi),
         }
     }
 
@@ -181,6 +217,7 @@ impl Bsdf for SurfaceBsdf {
         match self {
             SurfaceBsdf::DiffuseMirror(b) => b.pdf(wo, wi),
             SurfaceBsdf::MetallicRoughness(b) => b.pdf(wo, wi),
+            SurfaceBsdf::Layered(b) => b.pdf(wo, wi),
         }
     }
 
@@ -189,6 +226,7 @@ impl Bsdf for SurfaceBsdf {
         match self {
             SurfaceBsdf::DiffuseMirror(b) => b.sample(wo, u_lobe, u),
             SurfaceBsdf::MetallicRoughness(b) => b.sample(wo, u_lobe, u),
+            SurfaceBsdf::Layered(b) => b.sample(wo, u_lobe, u),
         }
     }
 
@@ -197,6 +235,7 @@ impl Bsdf for SurfaceBsdf {
         match self {
             SurfaceBsdf::DiffuseMirror(b) => b.is_delta(),
             SurfaceBsdf::MetallicRoughness(b) => b.is_delta(),
+            SurfaceBsdf::Layered(b) => b.is_delta(),
         }
     }
 }

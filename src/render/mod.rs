@@ -16,6 +16,7 @@ pub mod filter;
 pub(crate) mod integrator;
 pub mod job;
 pub mod kernel;
+pub mod medium;
 mod normal_maps;
 pub mod options;
 pub mod partial;

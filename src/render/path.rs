@@ -46,6 +46,7 @@ use crate::light::area::AreaSample;
 use crate::light::{Incident, PunctualLight, ShadowTarget};
 use crate::material::material_index;
 use crate::material::scattering::SurfaceBsdf;
+use crate::render::medium::Medium;
 use glam::Vec3;
 
 /// Depth (bounces) from which Russian roulette may end a path.
@@ -70,6 +71,8 @@ pub(crate) struct PathState {
     /// emitter it hits, which depends on both with the light BVH).
     origin: Vec3,
     origin_normal: Vec3,
+    /// The medium the ray travels in (KHR_materials_volume; outside for every other scene).
+    medium: Medium,
 }
 
 /// Buffers of the path tracer, reused across tiles.
@@ -136,6 +139,7 @@ pub(crate) fn render_tile_path<
                 specular: true,
                 origin: ray.origin,
                 origin_normal: Vec3::ZERO,
+                medium: Medium::OUTSIDE,
             });
         }
         let mut depth = 0;
@@ -207,13 +211,15 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, primary: bool, su
     if primary && !ctx.environment_visible {
         return;
     }
+    // An infinite segment inside an absorbing volume (an open mesh) transmits nothing.
+    let beta = path.beta * path.medium.transmittance(f32::INFINITY);
     let dir = ray.dir.normalize_or_zero();
     let le = env.radiance(dir);
     if le == Vec3::ZERO {
         return;
     }
     let w = bsdf_hit_weight(ctx, path, || env.pdf(dir));
-    sums.pending[path.pixel as usize] += path.beta * le * w;
+    sums.pending[path.pixel as usize] += beta * le * w;
 }
 
 /// The weight of light found by a BSDF-sampled ray (an emitter hit, an escape into the
@@ -285,7 +291,11 @@ fn shade<
     if SHADING_NORMALS && let Some(normals) = &mesh.normals {
         si.ns = shading_normal(&si, normals);
     }
-    let lit = si.front_face || material.double_sided;
+    let transmits = material.layers.is_some_and(|l| l.transmits());
+    let lit = si.front_face || material.double_sided || transmits;
+    if !v.path.medium.is_outside() {
+        v.path.beta *= v.path.medium.transmittance(hit.t * v.ray.dir.length());
+    }
     let footprint = if TEXTURES {
         v.diff.and_then(|rd| Footprint::at(mesh, &si, rd))
     } else {
@@ -335,7 +345,13 @@ fn shade<
     } else {
         (material.metallic, material.roughness)
     };
-    let bsdf = SurfaceBsdf::for_material_at(albedo, metallic_roughness, material, ctx.delta_only);
+    let bsdf = SurfaceBsdf::for_hit(
+        albedo,
+        metallic_roughness,
+        material,
+        ctx.delta_only,
+        si.front_face,
+    );
     let frame = match mapped_tangent {
         Some(t) => Frame::from_normal_tangent(si.ns, t),
         None => Frame::from_normal(si.ns),
@@ -359,9 +375,16 @@ fn shade<
         return;
     }
     let wi = frame.to_world(bs.wi);
-    if wi.dot(si.ng) <= 0.0 {
+    // Reflections stay above the geometric surface, transmissions go below it.
+    if (wi.dot(si.ng) <= 0.0) != bs.transmission {
         return;
     }
+    let medium = if bs.transmission {
+        let volume = material.layers.filter(|l| l.volume).map(|l| l.sigma);
+        path.medium.after_transmission(volume, si.front_face)
+    } else {
+        path.medium
+    };
     let mut beta = path.beta * bs.weight;
     if ctx.russian_roulette && v.depth + 1 >= RR_START_DEPTH && !ctx.delta_only {
         let fw = path.filter_weight.abs().max(f32::MIN_POSITIVE);
@@ -382,6 +405,7 @@ fn shade<
         specular: bs.delta,
         origin: si.p,
         origin_normal: si.ns,
+        medium,
         ..*path
     });
 }
@@ -409,12 +433,12 @@ fn sample_lights<const TEXTURES: bool>(
             q.counts.skipped_outside_cone += 1;
             continue;
         };
-        if si.ng.dot(wi) <= 0.0 || si.ns.dot(wi) <= 0.0 {
+        if !reachable(si, wi, bsdf) {
             q.counts.skipped_facing_away += 1;
             continue;
         }
         let wl = frame.to_local(wi);
-        let value = path.beta * bsdf.eval(wo, wl) * irradiance * wl.z;
+        let value = path.beta * bsdf.eval(wo, wl) * irradiance * wl.z.abs();
         if value == Vec3::ZERO {
             continue;
         }
@@ -431,15 +455,14 @@ fn sample_lights<const TEXTURES: bool>(
         let u = path.stream.next_2d();
         if let Some(ls) = area.sample(si.p, si.ns, u_select, u)
             && ls.pdf > 0.0
-            && si.ng.dot(ls.wi) > 0.0
-            && si.ns.dot(ls.wi) > 0.0
+            && reachable(si, ls.wi, bsdf)
         {
             let le = emitted_at::<TEXTURES>(ctx, &ls);
             let wl = frame.to_local(ls.wi);
             let f = bsdf.eval(wo, wl);
             if le != Vec3::ZERO && f != Vec3::ZERO {
                 let w = light_sample_weight(ctx, ls.pdf, bsdf.pdf(wo, wl));
-                let value = path.beta * f * le * (wl.z * w / ls.pdf);
+                let value = path.beta * f * le * (wl.z.abs() * w / ls.pdf);
                 if value.is_finite() {
                     q.shadow_rays
                         .push(spawn_ray_to(si.p, si.p_error, si.ng, ls.point));
@@ -453,14 +476,13 @@ fn sample_lights<const TEXTURES: bool>(
         let u = path.stream.next_2d();
         if let Some(es) = env.sample(u)
             && es.pdf > 0.0
-            && si.ng.dot(es.wi) > 0.0
-            && si.ns.dot(es.wi) > 0.0
+            && reachable(si, es.wi, bsdf)
         {
             let wl = frame.to_local(es.wi);
             let f = bsdf.eval(wo, wl);
             if f != Vec3::ZERO && es.radiance != Vec3::ZERO {
                 let w = light_sample_weight(ctx, es.pdf, bsdf.pdf(wo, wl));
-                let value = path.beta * f * es.radiance * (wl.z * w / es.pdf);
+                let value = path.beta * f * es.radiance * (wl.z.abs() * w / es.pdf);
                 if value.is_finite() {
                     q.shadow_rays
                         .push(spawn_ray(si.p, si.p_error, si.ng, es.wi));
@@ -469,6 +491,15 @@ fn sample_lights<const TEXTURES: bool>(
             }
         }
     }
+}
+
+/// Whether light from direction `wi` can reach the shading point through the BSDF: above
+/// both the geometric and the shading horizon, or, for a transmitting BSDF, below both
+/// (shading normals never let light through the surface on their own).
+#[inline(always)]
+fn reachable(si: &SurfaceInteraction, wi: Vec3, bsdf: &SurfaceBsdf) -> bool {
+    let (g, s) = (si.ng.dot(wi), si.ns.dot(wi));
+    (g > 0.0 && s > 0.0) || (g < 0.0 && s < 0.0 && bsdf.transmits())
 }
 
 /// The radiance the sampled emitter point `ls` sends toward `-ls.wi` (back to the

@@ -111,10 +111,12 @@ impl<'a> TileScheduler<'a> {
         }
         .filter(|lights| !lights.is_empty());
         // The path kernel runs for the path tracer, and for the direct integrator when the
-        // render has lights the classic kernel cannot sample (environment, emitters).
+        // render has lights the classic kernel cannot sample (environment, emitters) or
+        // materials it cannot shade (KHR_materials layers).
         let path_kernel = settings.integrator == super::Integrator::Path
             || environment.is_some()
-            || area_lights.is_some();
+            || area_lights.is_some()
+            || features.layered_materials;
         let visibility = super::visibility::Visibility::new(
             scene,
             flags.alpha,

@@ -92,6 +92,9 @@ impl RenderStats {
             if !k.environment {
                 out.push("no environment: no environment sampling");
             }
+            if !self.features.layered_materials {
+                out.push("no coat, sheen or transmission: metallic-roughness lobes only");
+            }
         } else if !k.mirrors {
             out.push("no mirrors: no reflection rays");
         }

@@ -33,6 +33,10 @@ pub struct SceneFeatures {
     /// At least one material with a normal map (hits build tangent frames; implies
     /// `textures`).
     pub normal_maps: bool,
+    /// At least one material with KHR_materials layers (clear coat, sheen, transmission):
+    /// both integrators shade it with the layered BSDF, so the direct integrator runs the path
+    /// kernel's delta-only mode for such scenes.
+    pub layered_materials: bool,
 }
 
 impl SceneFeatures {
@@ -71,6 +75,9 @@ impl SceneFeatures {
             f.single_sided |= !material.double_sided;
             f.alpha |= material.alpha != super::AlphaMode::Opaque;
             f.normal_maps |= material.normal_texture.is_some();
+            f.layered_materials |= material.clearcoat.is_some()
+                || material.sheen.is_some()
+                || material.transmission.is_some();
         }
         f.textures |= f.normal_maps;
         f

@@ -58,6 +58,7 @@ mod animation;
 mod error;
 mod instancing;
 mod limits;
+mod material_layers;
 mod materials;
 #[cfg(feature = "meshopt")]
 mod meshopt;

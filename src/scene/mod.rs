@@ -8,6 +8,7 @@ pub mod defaults;
 pub mod demo;
 pub mod features;
 pub mod gltf;
+pub mod layers;
 pub mod light_spec;
 pub mod tangents;
 pub mod texture_decode;
@@ -85,6 +86,14 @@ pub struct Material {
     pub specular: f32,
     /// KHR_materials_specular `specularColorFactor` (white without it): tints f0.
     pub specular_color: Vec3,
+    /// KHR_materials_clearcoat, if the material has it.
+    pub clearcoat: Option<layers::Clearcoat>,
+    /// KHR_materials_sheen, if the material has it.
+    pub sheen: Option<layers::Sheen>,
+    /// KHR_materials_transmission, if the material has it.
+    pub transmission: Option<layers::Transmission>,
+    /// KHR_materials_volume, if the material has it (meaningful with transmission only).
+    pub volume: Option<layers::Volume>,
     /// glTF `normalTexture` and its `scale` (see [`crate::material::normal_map`]).
     pub normal_texture: Option<NormalTextureRef>,
     /// glTF `alphaMode` (with `alphaCutoff`): how the coverage α = baseColorFactor.a ×
@@ -133,6 +142,10 @@ impl Default for Material {
             alpha: AlphaMode::Opaque,
             unlit: false,
             normal_texture: None,
+            clearcoat: None,
+            sheen: None,
+            transmission: None,
+            volume: None,
         }
     }
 }

@@ -319,3 +319,4 @@ fn roughness_zero_is_the_limit_of_rough_metal() {
         );
     }
 }
+mod layers;

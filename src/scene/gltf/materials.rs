@@ -123,6 +123,7 @@ pub fn load(
             "emissiveStrength",
         );
         let surface = super::alpha::read(&material, &label, origin, &mut clamped);
+        let layers = super::material_layers::read(&material, &label, origin, &mut clamped);
         materials.push(Material {
             name: material
                 .name()
@@ -169,6 +170,10 @@ pub fn load(
                 origin,
                 &mut clamped,
             ),
+            clearcoat: layers.clearcoat,
+            sheen: layers.sheen,
+            transmission: layers.transmission,
+            volume: layers.volume,
         });
     }
 

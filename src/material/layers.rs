@@ -1,0 +1,91 @@
+//! A material's KHR_materials layers prepared for shading, and the [`LayeredBsdf`] they make
+//! at a hit.
+
+use crate::bsdf::{ClearcoatBsdf, DielectricBsdf, LayeredBsdf, MetallicRoughnessBsdf, SheenBsdf};
+use crate::scene::Material;
+use crate::scene::layers::{Clearcoat, Sheen, Transmission};
+use glam::Vec3;
+
+/// The layers of one material (present only on materials with at least one of them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingLayers {
+    /// KHR_materials_clearcoat.
+    pub clearcoat: Option<Clearcoat>,
+    /// KHR_materials_sheen.
+    pub sheen: Option<Sheen>,
+    /// KHR_materials_transmission.
+    pub transmission: Option<Transmission>,
+    /// Whether KHR_materials_volume makes the transmitting surface the boundary of a volume
+    /// (refracting, with attenuation inside) rather than thin-walled.
+    pub volume: bool,
+    /// The volume's Beer-Lambert attenuation coefficient σ (zero: clear, or no volume).
+    pub sigma: Vec3,
+}
+
+impl ShadingLayers {
+    /// The layers of `material`, `None` when it has none (its shading is then unchanged).
+    pub fn of(material: &Material) -> Option<Self> {
+        if material.clearcoat.is_none()
+            && material.sheen.is_none()
+            && material.transmission.is_none()
+        {
+            return None;
+        }
+        // KHR_materials_volume without transmission changes nothing (the spec ties the
+        // volume to a transmitting or translucent surface).
+        let volume = material.transmission.and(material.volume);
+        Some(Self {
+            clearcoat: material.clearcoat,
+            sheen: material.sheen,
+            transmission: material.transmission,
+            volume: volume.is_some(),
+            sigma: volume.map_or(Vec3::ZERO, |v| v.sigma()),
+        })
+    }
+
+    /// Whether light may pass through the surface (then back faces are shaded whatever
+    /// `doubleSided` says: a ray leaving a glass object meets them from inside).
+    #[inline]
+    pub fn transmits(&self) -> bool {
+        self.transmission.is_some()
+    }
+
+    /// The BSDF at a hit: `base` (the material's metallic-roughness BRDF at the hit) with
+    /// these layers; `base_color` tints transmission, `roughness` is the base's perceptual
+    /// roughness, `ior` the material's, and `front_face` says whether the ray arrived from
+    /// outside (entering the volume) or inside.
+    #[inline]
+    pub fn bsdf(
+        &self,
+        base: MetallicRoughnessBsdf,
+        base_color: Vec3,
+        roughness: f32,
+        ior: f32,
+        front_face: bool,
+    ) -> LayeredBsdf {
+        // ior 0 (KHR_materials_ior's compatibility value) or nonsense: glass's 1.5.
+        let ior = if ior.is_finite() && ior >= 1.0 {
+            ior
+        } else {
+            1.5
+        };
+        let transmission = self.transmission.map(|t| {
+            let eta = if self.volume && !front_face {
+                1.0 / ior
+            } else {
+                ior
+            };
+            (
+                t.factor,
+                DielectricBsdf::new(eta, roughness, base_color, !self.volume),
+            )
+        });
+        LayeredBsdf::new(
+            base,
+            transmission,
+            self.sheen.map(|s| SheenBsdf::new(s.color, s.roughness)),
+            self.clearcoat
+                .map(|c| ClearcoatBsdf::new(c.factor, c.roughness)),
+        )
+    }
+}

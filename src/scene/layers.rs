@@ -1,0 +1,89 @@
+//! The KHR_materials layers a [`Material`](super::Material) may carry, as plain data read at
+//! load: clear coat, sheen, transmission and volume. Each is `None` on a material without its
+//! extension, so such materials shade exactly as before (see
+//! [`crate::bsdf::layered`] for the BSDF they become).
+
+use glam::Vec3;
+
+/// KHR_materials_clearcoat.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clearcoat {
+    /// `clearcoatFactor` in [0, 1].
+    pub factor: f32,
+    /// `clearcoatRoughnessFactor` in [0, 1] (perceptual; α = roughness²).
+    pub roughness: f32,
+}
+
+/// KHR_materials_sheen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sheen {
+    /// `sheenColorFactor`, linear RGB in [0, 1].
+    pub color: Vec3,
+    /// `sheenRoughnessFactor` in [0, 1] (perceptual; α = roughness²).
+    pub roughness: f32,
+}
+
+/// KHR_materials_transmission.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transmission {
+    /// `transmissionFactor` in [0, 1]: the share of the dielectric base that transmits.
+    pub factor: f32,
+}
+
+/// KHR_materials_volume: the medium enclosed by the mesh's surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Volume {
+    /// `thicknessFactor` (scene units). It only tells rasterisers how far light travels
+    /// inside; a path tracer measures the real distance, so glint keeps it for reference and
+    /// uses it only to decide that the surface is not thin-walled (thickness 0 means thin).
+    pub thickness: f32,
+    /// `attenuationColor`, linear RGB in [0, 1]: the colour white light becomes after
+    /// `attenuation_distance`.
+    pub attenuation_color: Vec3,
+    /// `attenuationDistance` (scene units, > 0; infinite: no attenuation).
+    pub attenuation_distance: f32,
+}
+
+impl Volume {
+    /// The Beer-Lambert attenuation coefficient `σ = −ln(attenuationColor) / attenuationDistance`
+    /// per channel (1/scene unit): white light travelling `d` keeps `exp(−σ d)`, which is
+    /// `attenuationColor` at `d = attenuationDistance`. A black channel absorbs everything
+    /// (σ = +∞ is kept as a large finite value so that `0 · σ` stays 0).
+    pub fn sigma(&self) -> Vec3 {
+        let d = self.attenuation_distance;
+        if !(d.is_finite() && d > 0.0) {
+            return Vec3::ZERO;
+        }
+        self.attenuation_color.map(|c| {
+            let c = c.clamp(0.0, 1.0);
+            if c >= 1.0 {
+                0.0
+            } else if c <= 0.0 {
+                f32::MAX.sqrt()
+            } else {
+                -c.ln() / d
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sigma_gives_the_attenuation_colour_at_the_attenuation_distance() {
+        let v = Volume {
+            thickness: 1.0,
+            attenuation_color: Vec3::new(0.5, 0.9, 1.0),
+            attenuation_distance: 2.0,
+        };
+        let t = (-v.sigma() * 2.0).exp();
+        assert!((t - v.attenuation_color).abs().max_element() < 1e-6);
+        let none = Volume {
+            attenuation_distance: f32::INFINITY,
+            ..v
+        };
+        assert_eq!(none.sigma(), Vec3::ZERO);
+    }
+}
