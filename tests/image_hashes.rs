@@ -47,36 +47,36 @@ fn hash_file(path: &Path) -> u64 {
 const EXPECTED: &[(&str, u64)] = &[
     ("demo/embree/png", 0x56aa363059c99b94), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/embree/exr", 0x8a6f904e547b0690), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("BoxTextured/embree/png", 0x993457117cb6631a),
-    ("BoxTextured/embree/exr", 0xbad31c66443d6c52),
+    ("BoxTextured/embree/png", 0x97d305d2b0f7e264), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("BoxTextured/embree/exr", 0xa7ddc4f5082622a8), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
     ("Cameras/embree/png", 0x84f471709c84416f),
     ("Cameras/embree/exr", 0xec7670cafdbd5dd0),
-    ("Suzanne/embree/png", 0x3f412146466aca6f),
-    ("Suzanne/embree/exr", 0x2a6346390526364b),
-    ("DamagedHelmet/embree/png", 0x8c60541cadb475a1), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("DamagedHelmet/embree/exr", 0x89f9999d8ddc7380), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("Suzanne/embree/png", 0xd9cddbbadca87261), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("Suzanne/embree/exr", 0xc3308376d35353d3), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("DamagedHelmet/embree/png", 0x73c20ca3b3f78762), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("DamagedHelmet/embree/exr", 0x991839424e906cb2), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
     ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/embree/exr", 0x7ba944f7b63e8c7a),
     ("demo/embree/partial", 0xe0d3a2f309b5c479), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/embree/progressive", 0xca818b3cb6735f12), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/embree/photometric", 0x9ed83b2cdf01abdc), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("batch/embree", 0x15cac39747a5ecf4),
+    ("batch/embree", 0xe170cad4474c0e1f), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
     ("demo/bvh/png", 0x56aa363059c99b94), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/bvh/exr", 0x0d45ed470d44e283), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("BoxTextured/bvh/png", 0x993457117cb6631a),
-    ("BoxTextured/bvh/exr", 0x4db0600baa4b3119),
+    ("BoxTextured/bvh/png", 0x97d305d2b0f7e264), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("BoxTextured/bvh/exr", 0x13265fc0e15c1510), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
     ("Cameras/bvh/png", 0x84f471709c84416f),
     ("Cameras/bvh/exr", 0x4a2a966ffdc0eabf),
-    ("Suzanne/bvh/png", 0x3f412146466aca6f),
-    ("Suzanne/bvh/exr", 0x62ccef9ccb92e89f),
-    ("DamagedHelmet/bvh/png", 0x2df40e67df19335f), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("DamagedHelmet/bvh/exr", 0x58eeeb2667be1fbf), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("Suzanne/bvh/png", 0xd9cddbbadca87261), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("Suzanne/bvh/exr", 0x0c5f1c37fcbb394d), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("DamagedHelmet/bvh/png", 0xaee401bfca4c3bb4), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
+    ("DamagedHelmet/bvh/exr", 0xfe4d5f6900f5d3ea), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
     ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/bvh/exr", 0x26616c4e1be72457),
     ("demo/bvh/partial", 0x2d03021458abd60d), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/bvh/progressive", 0xa67f07fa726b4639), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/bvh/photometric", 0x96c98a9761586438), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("batch/bvh", 0xdec74506be8a6a9d),
+    ("batch/bvh", 0x92d25d769a274e22), // re-recorded: 8-bit MIP levels stored as 8-bit (≤ 1 code, tests/compact_textures.rs)
 ];
 
 /// A partial EXR's hash over its decoded channels (name and f32 bits) and its glint

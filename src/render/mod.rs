@@ -271,12 +271,7 @@ pub fn build_area_lights(scene: &Scene) -> Result<crate::light::area::AreaLights
         let Some(texture) = t.and_then(|r| scene.textures.get(r.texture)) else {
             return glam::Vec3::ONE;
         };
-        let n = texture.texels.len().max(1) as f64;
-        let sum = texture
-            .texels
-            .iter()
-            .fold(glam::DVec3::ZERO, |acc, t| acc + t.truncate().as_dvec3());
-        (sum / n).as_vec3()
+        texture.texels.mean_rgb().as_vec3()
     };
     let mean_le: Vec<glam::Vec3> = scene
         .materials
