@@ -77,7 +77,8 @@ fn alpha_texture(alphas: &[&[f32]]) -> Texture {
         texels: alphas
             .iter()
             .flat_map(|row| row.iter().map(|&a| Vec4::new(1.0, 1.0, 1.0, a)))
-            .collect(),
+            .collect::<Vec<_>>()
+            .into(),
         wrap_s: WrapMode::ClampToEdge,
         wrap_t: WrapMode::ClampToEdge,
         mag_filter: MagFilter::Nearest,

@@ -623,12 +623,12 @@ fn ext_texture_webp_images_decode_in_place_of_the_fallback() {
         let loaded = fixture.load(rest).unwrap_or_else(|e| panic!("{e}"));
         let texture = &loaded.scene.textures[0];
         assert_eq!((texture.width, texture.height), (2, 1));
-        assert_eq!(texture.texels[0], Vec4::new(1.0, 0.0, 0.0, 1.0));
+        assert_eq!(texture.texels.texel(0), Vec4::new(1.0, 0.0, 0.0, 1.0));
         // sRGB 128/255 → linear 0.2158605.
         assert!(
-            (texture.texels[1].x - 0.215_860_5).abs() < 1e-5,
+            (texture.texels.texel(1).x - 0.215_860_5).abs() < 1e-5,
             "{}",
-            texture.texels[1]
+            texture.texels.texel(1)
         );
     }
 }
@@ -668,8 +668,14 @@ fn sixteen_bit_pngs_keep_sixteen_bits() {
         );
     }
     assert!(
-        texels[1].x > texels[0].x,
+        texels.texel(1).x > texels.texel(0).x,
         "one 16-bit step apart must stay apart"
+    );
+    assert_eq!(texels.bits(), 16, "16-bit codes are stored as 16 bits");
+    assert_eq!(
+        texels.bytes(),
+        2 * 2,
+        "grey and opaque: one 16-bit channel a texel"
     );
 }
 

@@ -433,12 +433,12 @@ fn srgb_texels_decode_with_the_exact_curve() {
         .unwrap();
     let texture = &loaded.scene.textures[0];
     assert_eq!((texture.width, texture.height), (2, 1));
-    let texel = texture.texels[0];
+    let texel = texture.texels.texel(0);
     assert!((texel.x - 0.2158605).abs() < 1e-6, "{texel}");
     assert!((texel.y - 10.0 / 255.0 / 12.92).abs() < 1e-7, "{texel}");
     assert_eq!(texel.z, 1.0);
     assert!((texel.w - 128.0 / 255.0).abs() < 1e-7, "alpha is linear");
-    assert_eq!(texture.texels[1], Vec4::new(0.0, 0.0, 0.0, 1.0));
+    assert_eq!(texture.texels.texel(1), Vec4::new(0.0, 0.0, 0.0, 1.0));
     assert_eq!(texture.mag_filter, MagFilter::Nearest);
     assert_eq!(
         (texture.wrap_s, texture.wrap_t),
@@ -671,7 +671,10 @@ fn external_files_resolve_next_to_the_scene() {
     );
     let scene = load(&path).unwrap();
     assert_eq!(scene.triangle_count(), 1);
-    assert_eq!(scene.textures[0].texels[0], Vec4::new(0.0, 1.0, 0.0, 1.0));
+    assert_eq!(
+        scene.textures[0].texels.texel(0),
+        Vec4::new(0.0, 1.0, 0.0, 1.0)
+    );
 }
 
 /// The embedded demo scene shows every feature glint renders, loads without warnings, and

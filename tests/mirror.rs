@@ -245,7 +245,8 @@ fn everything_scene() -> (Scene, Camera) {
             Vec4::new(0.2, 1.0, 0.2, 1.0),
             Vec4::new(0.2, 0.2, 1.0, 1.0),
             Vec4::ONE,
-        ],
+        ]
+        .into(),
         wrap_s: WrapMode::Repeat,
         wrap_t: WrapMode::MirroredRepeat,
         mag_filter: MagFilter::Linear,

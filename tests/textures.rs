@@ -92,7 +92,7 @@ fn mip_level_matches_the_analytic_footprint() {
 }
 
 fn ramp(width: u32, height: u32) -> TexelGrid {
-    let texels = (0..width * height).map(|i| Vec4::splat(i as f32)).collect();
+    let texels: Vec<Vec4> = (0..width * height).map(|i| Vec4::splat(i as f32)).collect();
     TexelGrid::new(width, height, texels).unwrap()
 }
 
@@ -238,10 +238,12 @@ fn srgb_base_colour_versus_linear_data() {
         .unwrap();
     let srgb = decode_image(&png, ColorSpace::Srgb, 1 << 20)
         .unwrap()
-        .texels[0];
+        .texels
+        .texel(0);
     let linear = decode_image(&png, ColorSpace::Linear, 1 << 20)
         .unwrap()
-        .texels[0];
+        .texels
+        .texel(0);
     assert!((srgb.x - srgb_to_linear(128.0 / 255.0)).abs() < 1e-6);
     assert!(
         (srgb.x - 0.2158605).abs() < 1e-5,

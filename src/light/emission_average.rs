@@ -95,7 +95,7 @@ mod tests {
             name: "half".into(),
             width: 2,
             height: 1,
-            texels: vec![Vec4::new(0.0, 0.0, 0.0, 1.0), Vec4::ONE],
+            texels: vec![Vec4::new(0.0, 0.0, 0.0, 1.0), Vec4::ONE].into(),
             wrap_s: WrapMode::ClampToEdge,
             wrap_t: WrapMode::ClampToEdge,
             mag_filter: Default::default(),

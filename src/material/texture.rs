@@ -35,7 +35,7 @@ mod tests {
             name: "2x2".into(),
             width: 2,
             height: 2,
-            texels: vec![Vec4::ZERO, Vec4::ONE, Vec4::ONE, Vec4::ZERO],
+            texels: vec![Vec4::ZERO, Vec4::ONE, Vec4::ONE, Vec4::ZERO].into(),
             wrap_s: WrapMode::Repeat,
             wrap_t: WrapMode::Repeat,
             mag_filter: MagFilter::Linear,

@@ -38,6 +38,7 @@ pub struct TileScheduler<'a> {
     features: SceneFeatures,
     flags: KernelFlags,
     texture_bytes: u64,
+    texture_texels: u64,
 }
 
 /// The pool a render runs on: its own, or one shared by concurrent renders (`glint batch`).
@@ -102,6 +103,7 @@ impl<'a> TileScheduler<'a> {
             (true, None) => Cow::Owned(super::build_mipmaps(scene)),
         };
         let texture_bytes = mipmaps.iter().map(|m| m.bytes() as u64).sum();
+        let texture_texels = mipmaps.iter().map(|m| m.base_texels() as u64).sum();
         let area_lights: Option<Cow<'a, crate::light::area::AreaLights>> = match area_lights {
             Some(shared) => Some(Cow::Borrowed(shared)),
             None => Some(Cow::Owned(super::build_area_lights(
@@ -174,6 +176,7 @@ impl<'a> TileScheduler<'a> {
             features,
             flags,
             texture_bytes,
+            texture_texels,
         })
     }
 
@@ -200,6 +203,7 @@ impl<'a> TileScheduler<'a> {
             features: self.features,
             kernel: self.flags,
             texture_bytes: self.texture_bytes,
+            texture_texels: self.texture_texels,
         }
     }
 

@@ -65,6 +65,8 @@ pub struct RenderStats {
     pub kernel: KernelFlags,
     /// Bytes of texture texels the render held, MIP chains included.
     pub texture_bytes: u64,
+    /// Texels of the textures' base levels (`texture_bytes` / this = bytes per texel).
+    pub texture_texels: u64,
 }
 
 impl RenderStats {
@@ -153,8 +155,9 @@ impl RenderStats {
         }
         if self.texture_bytes > 0 {
             line.push_str(&format!(
-                "; textures {:.1} MiB with MIP maps",
-                self.texture_bytes as f64 / (1024.0 * 1024.0)
+                "; textures {:.1} MiB with MIP maps ({:.2} B/texel)",
+                self.texture_bytes as f64 / (1024.0 * 1024.0),
+                self.texture_bytes as f64 / self.texture_texels.max(1) as f64
             ));
         }
         let skipped = self.not_modelled();
@@ -191,6 +194,7 @@ mod tests {
             features,
             kernel: KernelFlags::for_scene(&features, super::super::KernelChoice::Specialised),
             texture_bytes: 3 << 20,
+            texture_texels: 3 << 18,
         };
         assert!((stats.mrays_per_second() - 3.0).abs() < 1e-9);
         let line = stats.summary();
@@ -204,7 +208,7 @@ mod tests {
             "no spot lights: no cone tests",
             "no alpha: no any-hit tests",
             "no single-sided materials: no back-face culling",
-            "textures 3.0 MiB with MIP maps",
+            "textures 3.0 MiB with MIP maps (4.00 B/texel)",
             "no normal maps: no tangent frames",
         ] {
             assert!(line.contains(part), "missing '{part}' in: {line}");

@@ -11,6 +11,7 @@ pub mod gltf;
 pub mod layers;
 pub mod light_spec;
 pub mod tangents;
+pub mod texels;
 pub mod texture_decode;
 
 use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
@@ -222,7 +223,8 @@ pub enum MagFilter {
     Linear,
 }
 
-/// A decoded texture: linear RGBA texels, row-major, top row first.
+/// A decoded texture: texels at the file's precision that read as linear RGBA, row-major,
+/// top row first.
 #[derive(Clone, Debug)]
 pub struct Texture {
     /// Name or URI, for messages.
@@ -231,8 +233,8 @@ pub struct Texture {
     pub width: u32,
     /// Height in texels (≥ 1).
     pub height: u32,
-    /// Linear texel values.
-    pub texels: Vec<Vec4>,
+    /// The texels (compact storage; [`texels::Texels::texel`] reads one as linear RGBA).
+    pub texels: texels::Texels,
     /// Horizontal wrap mode.
     pub wrap_s: WrapMode,
     /// Vertical wrap mode.

@@ -1,10 +1,13 @@
-//! Decoding texture images (PNG, JPEG) into linear RGBA texels.
+//! Decoding texture images (PNG, JPEG, WebP) into compact texels ([`Texels`]) that read as
+//! linear RGBA.
 //!
 //! Colour textures (base colour, emissive) are stored sRGB-encoded; they are decoded to linear
-//! here, once, with the exact piecewise sRGB EOTF (IEC 61966-2-1), not a 2.2 gamma, so that
-//! shading works on radiometric quantities. Data textures (metallic-roughness, normals) are
+//! with the exact piecewise sRGB EOTF (IEC 61966-2-1), not a 2.2 gamma, so that shading works
+//! on radiometric quantities. The codes are kept as the file had them (8 or 16 bits) and the
+//! EOTF is applied through a table when a texel is read. Data textures (metallic-roughness, normals) are
 //! stored linear and only rescaled to [0, 1]. Alpha is linear in both cases.
 
+use super::texels::Texels;
 use glam::Vec4;
 
 /// How the numbers in an image file encode colour.
@@ -23,8 +26,8 @@ pub struct DecodedImage {
     pub width: u32,
     /// Height in texels (≥ 1).
     pub height: u32,
-    /// Linear RGBA texels, row-major, top row first.
-    pub texels: Vec<Vec4>,
+    /// Texels at the file's precision, row-major, top row first (read as linear RGBA).
+    pub texels: Texels,
 }
 
 /// The exact sRGB electro-optical transfer function: encoded value in [0, 1] to linear.
@@ -72,58 +75,79 @@ pub fn decode_image(
     reader.limits(limits);
     let image = reader.decode()?;
     let (width, height) = (image.width(), image.height());
-    // 8-bit sources go through a 256-entry table; deeper ones (16-bit PNG) are converted per
-    // channel so that no precision is thrown away.
-    let texels = if image.color().bytes_per_pixel() <= 4 {
-        let rgba = image.to_rgba8();
-        let table = channel_table_u8(space);
-        rgba.pixels()
-            .map(|p| {
-                Vec4::new(
-                    table[usize::from(p[0])],
-                    table[usize::from(p[1])],
-                    table[usize::from(p[2])],
-                    f32::from(p[3]) / 255.0,
-                )
-            })
-            .collect()
-    } else {
-        let rgba = image.to_rgba16();
-        let convert = |c: u16| {
-            let encoded = f32::from(c) / 65535.0;
-            match space {
-                ColorSpace::Srgb => srgb_to_linear(encoded),
-                ColorSpace::Linear => encoded,
-            }
-        };
-        rgba.pixels()
-            .map(|p| {
-                Vec4::new(
-                    convert(p[0]),
-                    convert(p[1]),
-                    convert(p[2]),
-                    f32::from(p[3]) / 65535.0,
-                )
-            })
-            .collect()
-    };
     Ok(DecodedImage {
         width,
         height,
-        texels,
+        texels: compact_texels(image, space),
     })
 }
 
-/// Linear value of each 8-bit code in `space`.
-fn channel_table_u8(space: ColorSpace) -> [f32; 256] {
-    std::array::from_fn(|code| {
-        // `code` < 256, so the conversion to f32 is exact.
-        let encoded = code as f32 / 255.0;
-        match space {
-            ColorSpace::Srgb => srgb_to_linear(encoded),
-            ColorSpace::Linear => encoded,
+/// The decoded image's texels at the precision it was stored with (8 or 16 bits, or float),
+/// in the fewest channels that hold it exactly: grey when R = G = B everywhere, no alpha
+/// when every texel is opaque. The values read back are the ones an RGBA decode gives.
+fn compact_texels(image: image::DynamicImage, space: ColorSpace) -> Texels {
+    use image::DynamicImage as D;
+    match image {
+        D::ImageLuma8(b) => u8_texels(1, space, b.into_raw()),
+        D::ImageLumaA8(b) => u8_texels(2, space, b.into_raw()),
+        D::ImageRgb8(b) => u8_texels(3, space, b.into_raw()),
+        D::ImageRgba8(b) => u8_texels(4, space, b.into_raw()),
+        D::ImageLuma16(b) => u16_texels(1, space, b.into_raw()),
+        D::ImageLumaA16(b) => u16_texels(2, space, b.into_raw()),
+        D::ImageRgb16(b) => u16_texels(3, space, b.into_raw()),
+        D::ImageRgba16(b) => u16_texels(4, space, b.into_raw()),
+        D::ImageRgb32F(_) | D::ImageRgba32F(_) => {
+            // Float images are linear already: the colour space does not apply.
+            let texels = image
+                .into_rgba32f()
+                .pixels()
+                .map(|p| Vec4::from_array(p.0))
+                .collect();
+            Texels::from_linear(texels)
         }
-    })
+        // Formats added to the image crate later: through 8 or 16 bits as their depth says.
+        other if other.color().bytes_per_pixel() <= 4 => {
+            u8_texels(4, space, other.into_rgba8().into_raw())
+        }
+        other => u16_texels(4, space, other.into_rgba16().into_raw()),
+    }
+}
+
+/// Drops what the codes do not need: alpha that is everywhere the maximum code, and G, B
+/// when they equal R everywhere. Returns the new channel count and codes.
+fn shrink_layout<T: Copy + PartialEq>(channels: u8, max: T, codes: Vec<T>) -> (u8, Vec<T>) {
+    let n = usize::from(channels);
+    let has_alpha = n == 2 || n == 4;
+    let colour = if n >= 3 { 3 } else { 1 };
+    let opaque = has_alpha && codes.chunks_exact(n).all(|t| t[n - 1] == max);
+    let grey = colour == 3 && codes.chunks_exact(n).all(|t| t[0] == t[1] && t[1] == t[2]);
+    let keep: &[usize] = match (grey || colour == 1, has_alpha && !opaque) {
+        (true, false) => &[0],
+        (true, true) => &[0, n - 1],
+        (false, false) => &[0, 1, 2],
+        (false, true) => return (channels, codes),
+    };
+    if keep.len() == n {
+        return (channels, codes);
+    }
+    let out = codes
+        .chunks_exact(n)
+        .flat_map(|t| keep.iter().map(move |&k| t[k]))
+        .collect();
+    // `keep` has 1 to 3 entries.
+    (keep.len() as u8, out)
+}
+
+fn u8_texels(channels: u8, space: ColorSpace, codes: Vec<u8>) -> Texels {
+    let (channels, codes) = shrink_layout(channels, u8::MAX, codes);
+    // The image crate's buffers hold whole pixels of `channels` samples.
+    Texels::from_u8(channels, space, codes).unwrap_or_else(|| Texels::from_linear(Vec::new()))
+}
+
+fn u16_texels(channels: u8, space: ColorSpace, codes: Vec<u16>) -> Texels {
+    let (channels, codes) = shrink_layout(channels, u16::MAX, codes);
+    // As for `u8_texels`.
+    Texels::from_u16(channels, space, codes).unwrap_or_else(|| Texels::from_linear(Vec::new()))
 }
 
 #[cfg(test)]
@@ -157,9 +181,9 @@ mod tests {
             .expect("encode");
         let decoded = decode_image(&png, ColorSpace::Srgb, 1 << 20).expect("decode");
         let expected = srgb_to_linear(32768.0 / 65535.0);
-        assert!((decoded.texels[0].x - expected).abs() < 1e-6);
-        assert_eq!(decoded.texels[0].z, 1.0);
+        assert!((decoded.texels.texel(0).x - expected).abs() < 1e-6);
+        assert_eq!(decoded.texels.texel(0).z, 1.0);
         let linear = decode_image(&png, ColorSpace::Linear, 1 << 20).expect("decode");
-        assert!((linear.texels[0].x - 32768.0 / 65535.0).abs() < 1e-7);
+        assert!((linear.texels.texel(0).x - 32768.0 / 65535.0).abs() < 1e-7);
     }
 }

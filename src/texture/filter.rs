@@ -172,7 +172,7 @@ mod tests {
     use crate::texture::image::Wrap;
 
     fn checker(n: u32) -> MipMap {
-        let texels = (0..n * n)
+        let texels: Vec<Vec4> = (0..n * n)
             .map(|i| {
                 if (i % n + i / n).is_multiple_of(2) {
                     Vec4::ZERO

@@ -1,4 +1,4 @@
-//! One level of a texture: a grid of linear RGBA texels and the reconstruction filters that
+//! One level of a texture: a grid of texels (read as linear RGBA) and the reconstruction filters that
 //! read it at a point (nearest, bilinear, bicubic) under glTF's wrap modes.
 //!
 //! Coordinates follow glTF: uv (0, 0) is the top-left corner of the image; texel (i, j) covers
@@ -7,6 +7,7 @@
 //! so that wrapping is exact even far from the origin (u = 10⁶ is as sharp as u = 0).
 
 use crate::scene::WrapMode;
+use crate::scene::texels::{TexelRead, TexelVisitor, Texels};
 use glam::{DVec2, Vec2, Vec4};
 
 /// Maps an integer texel coordinate into `[0, size)` under `mode`.
@@ -25,7 +26,8 @@ pub fn wrap(i: i64, size: u32, mode: WrapMode) -> usize {
     wrapped as usize
 }
 
-/// A texel grid: width × height linear RGBA values, row-major, top row first.
+/// A texel grid: width × height texels, row-major, top row first, read as linear RGBA
+/// (stored compactly: [`Texels`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TexelGrid {
     /// Width in texels (≥ 1).
@@ -33,7 +35,7 @@ pub struct TexelGrid {
     /// Height in texels (≥ 1).
     pub height: u32,
     /// `width · height` texels.
-    pub texels: Vec<Vec4>,
+    pub texels: Texels,
 }
 
 /// The wrap modes of a texture's two axes.
@@ -60,10 +62,120 @@ fn texel_space(uv: Vec2, width: u32, height: u32) -> DVec2 {
     uv.as_dvec2() * DVec2::new(f64::from(width), f64::from(height))
 }
 
+/// [`wrap`] without its integer division for the common case of a coordinate already inside
+/// the grid.
+#[inline(always)]
+fn wrap_fast(i: i64, size: u32, mode: WrapMode) -> usize {
+    if (i as u64) < u64::from(size) {
+        // 0 ≤ i < size ≤ u32::MAX.
+        i as usize
+    } else {
+        wrap(i, size, mode)
+    }
+}
+
+/// One reconstruction filter at one point, run with the grid's texel reader.
+#[derive(Clone, Copy)]
+enum Reconstruct {
+    Nearest,
+    Bilinear,
+    Bicubic,
+}
+
+/// The point, grid size and filter of one reconstruction ([`TexelVisitor`] over the storage).
+struct Point {
+    uv: Vec2,
+    wrap: Wrap,
+    width: u32,
+    height: u32,
+    filter: Reconstruct,
+}
+
+impl TexelVisitor for Point {
+    type Output = Vec4;
+
+    #[inline(always)]
+    fn visit<R: TexelRead>(self, reader: R) -> Vec4 {
+        let grid = Reader {
+            reader,
+            width: self.width,
+            height: self.height,
+        };
+        match self.filter {
+            Reconstruct::Nearest => grid.nearest(self.uv, self.wrap),
+            Reconstruct::Bilinear => grid.bilinear(self.uv, self.wrap),
+            Reconstruct::Bicubic => grid.bicubic(self.uv, self.wrap),
+        }
+    }
+}
+
+/// A grid's size with the reader of its storage format: the filters, compiled per format.
+struct Reader<R> {
+    reader: R,
+    width: u32,
+    height: u32,
+}
+
+impl<R: TexelRead> Reader<R> {
+    #[inline(always)]
+    fn at(&self, ix: usize, iy: usize) -> Vec4 {
+        self.reader.read(iy * self.width as usize + ix)
+    }
+
+    #[inline(always)]
+    fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = texel_space(uv, self.width, self.height);
+        self.at(
+            wrap_fast(split(st.x).0, self.width, wrap.s),
+            wrap_fast(split(st.y).0, self.height, wrap.t),
+        )
+    }
+
+    #[inline(always)]
+    fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = texel_space(uv, self.width, self.height) - 0.5;
+        let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
+        let (x0, x1) = (
+            wrap_fast(x, self.width, wrap.s),
+            wrap_fast(x.saturating_add(1), self.width, wrap.s),
+        );
+        let (y0, y1) = (
+            wrap_fast(y, self.height, wrap.t),
+            wrap_fast(y.saturating_add(1), self.height, wrap.t),
+        );
+        let top = self.at(x0, y0).lerp(self.at(x1, y0), fx);
+        let bottom = self.at(x0, y1).lerp(self.at(x1, y1), fx);
+        top.lerp(bottom, fy)
+    }
+
+    #[inline(always)]
+    fn bicubic(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = texel_space(uv, self.width, self.height) - 0.5;
+        let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
+        let (wx, wy) = (catmull_rom_weights(fx), catmull_rom_weights(fy));
+        let xs: [usize; 4] =
+            std::array::from_fn(|i| wrap_fast(x.saturating_add(i as i64 - 1), self.width, wrap.s));
+        let ys: [usize; 4] =
+            std::array::from_fn(|j| wrap_fast(y.saturating_add(j as i64 - 1), self.height, wrap.t));
+        let mut sum = Vec4::ZERO;
+        let (mut lo, mut hi) = (Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY));
+        for (wyj, &iy) in wy.iter().zip(&ys) {
+            for (wxi, &ix) in wx.iter().zip(&xs) {
+                let t = self.at(ix, iy);
+                sum += t * (wxi * wyj);
+                lo = lo.min(t);
+                hi = hi.max(t);
+            }
+        }
+        sum.clamp(lo, hi)
+    }
+}
+
 impl TexelGrid {
     /// A grid of `width × height` texels; `None` if the sizes and the texel count disagree
     /// or a side is zero.
-    pub fn new(width: u32, height: u32, texels: Vec<Vec4>) -> Option<Self> {
+    pub fn new(width: u32, height: u32, texels: impl Into<Texels>) -> Option<Self> {
+        let texels = texels.into();
         let ok =
             width > 0 && height > 0 && texels.len() as u64 == u64::from(width) * u64::from(height);
         ok.then_some(Self {
@@ -75,7 +187,7 @@ impl TexelGrid {
 
     /// Bytes the texels occupy.
     pub fn bytes(&self) -> usize {
-        self.texels.len() * std::mem::size_of::<Vec4>()
+        self.texels.bytes()
     }
 
     /// The texel at integer coordinates, wrapped. White if the grid is shorter than its size
@@ -84,29 +196,30 @@ impl TexelGrid {
     pub fn texel(&self, x: i64, y: i64, wrap: Wrap) -> Vec4 {
         let ix = self::wrap(x, self.width, wrap.s);
         let iy = self::wrap(y, self.height, wrap.t);
-        self.texels
-            .get(iy * self.width as usize + ix)
-            .copied()
-            .unwrap_or(Vec4::ONE)
+        self.texels.texel(iy * self.width as usize + ix)
+    }
+
+    #[inline]
+    fn reconstruct(&self, uv: Vec2, wrap: Wrap, filter: Reconstruct) -> Vec4 {
+        self.texels.visit(Point {
+            uv,
+            wrap,
+            width: self.width,
+            height: self.height,
+            filter,
+        })
     }
 
     /// The texel containing `uv`.
     #[inline]
     pub fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
-        let st = texel_space(uv, self.width, self.height);
-        self.texel(split(st.x).0, split(st.y).0, wrap)
+        self.reconstruct(uv, wrap, Reconstruct::Nearest)
     }
 
     /// Bilinear interpolation between the four texel centres around `uv`.
     #[inline]
     pub fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
-        let st = texel_space(uv, self.width, self.height) - 0.5;
-        let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
-        let top = self.texel(x, y, wrap).lerp(self.texel(x + 1, y, wrap), fx);
-        let bottom = self
-            .texel(x, y + 1, wrap)
-            .lerp(self.texel(x + 1, y + 1, wrap), fx);
-        top.lerp(bottom, fy)
+        self.reconstruct(uv, wrap, Reconstruct::Bilinear)
     }
 
     /// Bicubic interpolation (Catmull–Rom, separable, over the 4 × 4 texel centres around
@@ -115,20 +228,7 @@ impl TexelGrid {
     /// the 16 texels it read.
     #[inline]
     pub fn bicubic(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
-        let st = texel_space(uv, self.width, self.height) - 0.5;
-        let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
-        let (wx, wy) = (catmull_rom_weights(fx), catmull_rom_weights(fy));
-        let mut sum = Vec4::ZERO;
-        let (mut lo, mut hi) = (Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY));
-        for (j, wyj) in wy.iter().enumerate() {
-            for (i, wxi) in wx.iter().enumerate() {
-                let t = self.texel(x + i as i64 - 1, y + j as i64 - 1, wrap);
-                sum += t * (wxi * wyj);
-                lo = lo.min(t);
-                hi = hi.max(t);
-            }
-        }
-        sum.clamp(lo, hi)
+        self.reconstruct(uv, wrap, Reconstruct::Bicubic)
     }
 }
 

@@ -1,4 +1,5 @@
-//! MIP maps: a texture's chain of successively halved levels, built once, in linear space.
+//! MIP maps: a texture's chain of successively halved levels, built once, in linear space,
+//! each level stored in its base level's format (8-bit stays 8-bit).
 //!
 //! Each level is `max(1, ⌊w/2⌋) × max(1, ⌊h/2⌋)` of the one below. Non-power-of-two sides are
 //! handled by an exact box filter rather than by resampling to a power of two: output texel i
@@ -10,6 +11,7 @@
 //! not depend on the wrap mode. Halving with ⌊·⌋ keeps the whole chain within 4/3 of the base.
 
 use super::image::{TexelGrid, Wrap};
+use crate::scene::texels::{TexelRead, TexelVisitor, Texels};
 use crate::scene::{MagFilter, Texture};
 use glam::Vec4;
 
@@ -25,14 +27,15 @@ pub struct MipMap {
 }
 
 impl MipMap {
-    /// Builds the chain of `texture`. A texture whose texel count disagrees with its size
-    /// (the loader prevents it) becomes a 1 × 1 white texture rather than a panic.
+    /// Builds the chain of `texture`; the base level shares the texture's storage. A texture
+    /// whose texel count disagrees with its size (the loader prevents it) becomes a 1 × 1
+    /// white texture rather than a panic.
     pub fn new(texture: &Texture) -> Self {
         let base = TexelGrid::new(texture.width, texture.height, texture.texels.clone())
             .unwrap_or_else(|| TexelGrid {
                 width: 1,
                 height: 1,
-                texels: vec![Vec4::ONE],
+                texels: Texels::from_linear(vec![Vec4::ONE]),
             });
         Self::from_grid(
             base,
@@ -44,14 +47,35 @@ impl MipMap {
         )
     }
 
-    /// Builds the chain above `base`.
+    /// Builds the chain above `base`. Each level is filtered in linear f32 from the previous
+    /// level's f32 values (the base's as stored), then stored in the base's format
+    /// ([`Texels::quantized_like`]), so quantization errors do not accumulate up the chain:
+    /// every level is within half a code step of the exact f32 chain.
     pub fn from_grid(base: TexelGrid, wrap: Wrap, mag_filter: MagFilter) -> Self {
+        let (mut w, mut h) = (base.width as usize, base.height as usize);
+        let format = base.texels.clone();
         let mut levels = vec![base];
-        while let Some(last) = levels.last()
-            && (last.width > 1 || last.height > 1)
-        {
-            let next = downsample(last);
-            levels.push(next);
+        // The previous level in f32; `None` while it is the base (read from its storage).
+        let mut previous: Option<Vec<Vec4>> = None;
+        while w > 1 || h > 1 {
+            let next = match &previous {
+                None => format.visit(Downsample { w, h }),
+                Some(values) => Downsample { w, h }.visit(ReadF32Slice(values)),
+            };
+            (w, h) = ((w / 2).max(1), (h / 2).max(1));
+            let stored = if format.bits() == 32 {
+                // f32 storage keeps the values themselves.
+                Texels::from_linear(next.clone())
+            } else {
+                format.quantized_like(&next)
+            };
+            levels.push(TexelGrid {
+                // Sides only shrink, so they fit the base's u32.
+                width: w as u32,
+                height: h as u32,
+                texels: stored,
+            });
+            previous = Some(next);
         }
         Self {
             levels,
@@ -81,32 +105,60 @@ impl MipMap {
     pub fn bytes(&self) -> usize {
         self.levels.iter().map(TexelGrid::bytes).sum()
     }
+
+    /// Texels of the base level (what bytes per texel are counted against).
+    pub fn base_texels(&self) -> usize {
+        self.level(0).texels.len()
+    }
 }
 
-/// The next level: each side halved (rounding down, at least 1) with the exact box filter.
-fn downsample(grid: &TexelGrid) -> TexelGrid {
-    let (w, h) = (grid.width as usize, grid.height as usize);
-    let (w2, h2) = ((w / 2).max(1), (h / 2).max(1));
-    let wx = box_weights(w, w2);
-    let wy = box_weights(h, h2);
-    // Rows first: h × w2.
-    let mut rows = vec![Vec4::ZERO; h * w2];
-    for y in 0..h {
-        let src = &grid.texels[y * w..(y + 1) * w];
-        for (x2, taps) in wx.iter().enumerate() {
-            rows[y * w2 + x2] = taps.iter().map(|&(i, k)| src[i] * k).sum();
-        }
+/// f32 values as a texel reader (the previous level while the chain is built).
+#[derive(Clone, Copy)]
+struct ReadF32Slice<'a>(&'a [Vec4]);
+
+impl TexelRead for ReadF32Slice<'_> {
+    #[inline(always)]
+    fn read(&self, index: usize) -> Vec4 {
+        self.0.get(index).copied().unwrap_or(Vec4::ONE)
     }
-    let mut texels = vec![Vec4::ZERO; h2 * w2];
-    for (y2, taps) in wy.iter().enumerate() {
-        for x2 in 0..w2 {
-            texels[y2 * w2 + x2] = taps.iter().map(|&(j, k)| rows[j * w2 + x2] * k).sum();
+}
+
+/// The next level of a `w × h` level: each side halved (rounding down, at least 1) with the
+/// exact box filter, in f32. Rows then columns, one output row at a time, so that no
+/// intermediate image is held; the arithmetic (order included) is that of a full row pass
+/// followed by a full column pass.
+struct Downsample {
+    w: usize,
+    h: usize,
+}
+
+impl TexelVisitor for Downsample {
+    type Output = Vec<Vec4>;
+
+    fn visit<R: TexelRead>(self, src: R) -> Vec<Vec4> {
+        let Self { w, h } = self;
+        let (w2, h2) = ((w / 2).max(1), (h / 2).max(1));
+        let wx = box_weights(w, w2);
+        let wy = box_weights(h, h2);
+        let mut texels = Vec::with_capacity(w2 * h2);
+        let mut row = vec![Vec4::ZERO; w2];
+        let mut out = vec![Vec4::ZERO; w2];
+        for taps_y in &wy {
+            out.fill(Vec4::ZERO);
+            for &(j, kj) in taps_y {
+                // Source row j filtered horizontally, then weighted into the output row.
+                for (r, taps) in row.iter_mut().zip(&wx) {
+                    *r = taps
+                        .iter()
+                        .fold(Vec4::ZERO, |acc, &(i, k)| acc + src.read(j * w + i) * k);
+                }
+                for (o, r) in out.iter_mut().zip(&row) {
+                    *o += *r * kj;
+                }
+            }
+            texels.extend_from_slice(&out);
         }
-    }
-    TexelGrid {
-        width: w2 as u32,
-        height: h2 as u32,
-        texels,
+        texels
     }
 }
 

@@ -287,6 +287,7 @@ fn decode_textures(
                 name: image_label(&image),
                 width: pixels.width,
                 height: pixels.height,
+                // Shares the decoded storage (no copy).
                 texels: pixels.texels.clone(),
                 wrap_s: wrap_mode(sampler.wrap_s()),
                 wrap_t: wrap_mode(sampler.wrap_t()),
