@@ -97,6 +97,11 @@ pub fn run_with_loader(
     let mut reports: Vec<JobReport> = Vec::new();
     let fail =
         |job: &Job, message: String| report(job, JobStatus::Failed, 0.0, None, Some(message));
+    // Failures found before any render are printed at once (with -q too, as all failures).
+    let fail_early = |job: &Job, message: String| {
+        eprintln!("job {} ({}) failed: {message}", job.index, job.origin);
+        fail(job, message)
+    };
     let root = match &options.output_root {
         Some(root) => root.clone(),
         None => match job_file.parent() {
@@ -111,7 +116,7 @@ pub fn run_with_loader(
         let resolved = match paths::confine(job.output(), &root) {
             Ok(resolved) => resolved,
             Err(message) => {
-                reports.push(fail(job, message));
+                reports.push(fail_early(job, message));
                 continue;
             }
         };
@@ -120,7 +125,7 @@ pub fn run_with_loader(
             .entry(folder.clone())
             .or_insert_with(|| paths::probe_writable(&folder));
         if let Err(message) = probe {
-            reports.push(fail(job, message.clone()));
+            reports.push(fail_early(job, message.clone()));
             continue;
         }
         if !options.force && output_is_complete(job) {
