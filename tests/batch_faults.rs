@@ -609,3 +609,85 @@ fn a_frame_sweep_renders_an_animation_at_each_frames_time() {
     let r = report(&dir.path().join("r.json"));
     assert_eq!(r["jobs"][2]["origin"], "[[sweep]] 0, frame=2");
 }
+
+/// `asset_root` as a job key (relative to the job file), and `--asset-root` for converge and
+/// both benchmarks: a buffer `../elsewhere.bin` outside the root is refused, naming the URI.
+#[test]
+fn the_asset_root_binds_batch_converge_and_bench() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("root")).unwrap();
+    let plane = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/checker-plane.gltf");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(plane).unwrap()).unwrap();
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let bytes = base64::Engine::decode(
+        &base64::engine::general_purpose::STANDARD,
+        uri.split_once(";base64,").unwrap().1,
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("elsewhere.bin"), bytes).unwrap();
+    doc["buffers"][0]["uri"] = "../elsewhere.bin".into();
+    std::fs::write(dir.path().join("root/escape.gltf"), doc.to_string()).unwrap();
+    let text = "[defaults]\nscene = \"root/escape.gltf\"\nwidth = 8\nheight = 6\nspp = 1\n\
+                [[job]]\noutput = \"free.png\"\n\
+                [[job]]\noutput = \"bound.png\"\nasset_root = \"root\"\n";
+    std::fs::write(dir.path().join("jobs.toml"), text).unwrap();
+    // Run from another folder: the key resolves against the job file, not the cwd.
+    let elsewhere = tempfile::tempdir().unwrap();
+    let job_file = dir.path().join("jobs.toml").display().to_string();
+    let out = glint(
+        &["batch", &job_file, "--report", "r.json", "-q"],
+        elsewhere.path(),
+    );
+    assert!(!out.status.success());
+    let r = report(&elsewhere.path().join("r.json"));
+    assert_eq!(r["jobs"][0]["status"], "rendered", "{}", stderr(&out));
+    let error = r["jobs"][1]["error"].as_str().unwrap();
+    assert!(
+        error.contains("outside the asset root") && error.contains("../elsewhere.bin"),
+        "{error}"
+    );
+    for args in [
+        &[
+            "converge",
+            "root/escape.gltf",
+            "--out",
+            "c",
+            "--max-spp",
+            "1",
+            "--reference-spp",
+            "1",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--asset-root",
+            "root",
+        ][..],
+        &[
+            "bench",
+            "render",
+            "root/escape.gltf",
+            "--asset-root",
+            "root",
+            "--runs",
+            "1",
+        ][..],
+        &[
+            "bench",
+            "rays",
+            "root/escape.gltf",
+            "--quick",
+            "--asset-root",
+            "root",
+        ][..],
+    ] {
+        let out = glint(args, dir.path());
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(
+            stderr(&out).contains("outside the asset root"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+}
