@@ -57,7 +57,7 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/embree/exr", 0x89f9999d8ddc7380), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/embree/exr", 0x7ba944f7b63e8c7a),
-    ("demo/embree/partial", 0xe0d3a2f309b5c479), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/partial", 0x197f63a50e3b606e), // re-recorded: scene fingerprint attributes (issue 11); pixels unchanged
     ("demo/embree/progressive", 0xca818b3cb6735f12), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/embree/photometric", 0x9ed83b2cdf01abdc), // re-recorded: direct light from emissive surfaces (issue 12)
     ("batch/embree", 0x15cac39747a5ecf4),
@@ -73,7 +73,7 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/bvh/exr", 0x58eeeb2667be1fbf), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/bvh/exr", 0x26616c4e1be72457),
-    ("demo/bvh/partial", 0x2d03021458abd60d), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/partial", 0x2cdacd97ca19d7da), // re-recorded: scene fingerprint attributes (issue 11); pixels unchanged
     ("demo/bvh/progressive", 0xa67f07fa726b4639), // re-recorded: direct light from emissive surfaces (issue 12)
     ("demo/bvh/photometric", 0x96c98a9761586438), // re-recorded: direct light from emissive surfaces (issue 12)
     ("batch/bvh", 0xdec74506be8a6a9d),

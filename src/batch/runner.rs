@@ -129,8 +129,12 @@ pub fn run_with_loader(
             continue;
         }
         if !options.force && output_is_complete(job) {
-            // Leftovers of interrupted writes by processes that are certainly gone.
-            crate::output::atomic::remove_dead_temps(job.output());
+            // A batch killed between writing this output and giving its claim up left the
+            // claim file (and perhaps temporaries of a later write): free, so removed.
+            if let Ok(Some(held)) = claim::try_claim(job.output()) {
+                held.remove_stray_temps();
+                held.release();
+            }
             reports.push(report(job, JobStatus::Skipped, 0.0, None, None));
         } else {
             todo.push(job);
