@@ -6,7 +6,15 @@
 //! that breaks the contract (a panic or a malformed error) to the crash folder.
 //!
 //! Usage: `cargo run --release --example fuzz_loader -- SECONDS [SEED] [CRASH_DIR]`; prints
-//! executions, executions per second and crashes. `scripts/fuzz.sh SECONDS` wraps it.
+//! executions, executions per second and crashes (and a progress line every 10 s).
+//! `scripts/fuzz.sh SECONDS` wraps it and survives what this process cannot catch.
+//!
+//! Crash files: `CRASH_DIR/crash-SEED-N.{gltf,glb}`, each with `….seed` beside it naming the
+//! seed file it came from (its relative URIs resolve against that file's folder). Before
+//! each execution the mutant is written to `CRASH_DIR/in-progress.{gltf,glb}` (and
+//! `in-progress.seed`), so that an abort (Embree's assertions), a hang or an out-of-memory
+//! kill, which end this process, still leave the input that caused it for `scripts/fuzz.sh`
+//! to keep. A normal exit removes them.
 
 #[path = "../tests/mutate/mod.rs"]
 mod mutate;
@@ -38,22 +46,32 @@ fn main() -> std::process::ExitCode {
     let start = Instant::now();
     let budget = Duration::from_secs_f64(seconds.max(0.0));
     let (mut executions, mut rendered, mut crashes) = (0u64, 0u64, 0u64);
+    if let Err(err) = std::fs::create_dir_all(&crash_dir) {
+        eprintln!("fuzz_loader: cannot create {}: {err}", crash_dir.display());
+        return std::process::ExitCode::FAILURE;
+    }
+    let in_progress = |ext: &str| crash_dir.join(format!("in-progress.{ext}"));
+    let mut last_report = Instant::now();
     while start.elapsed() < budget {
         let seed = &seeds[rng.random_range(0..seeds.len())];
         let mutant = mutate::mutate(&seed.bytes, &mut rng);
+        let ext = if mutant.starts_with(b"glTF") {
+            "glb"
+        } else {
+            "gltf"
+        };
+        // Kept if this execution ends the process (abort, hang, out of memory).
+        let _ = std::fs::remove_file(in_progress(if ext == "glb" { "gltf" } else { "glb" }));
+        let _ = std::fs::write(in_progress(ext), &mutant)
+            .and_then(|()| std::fs::write(in_progress("seed"), &seed.name));
         match mutate::execute(&mutant, &seed.name, &seed.dir) {
             mutate::Outcome::Rendered => rendered += 1,
             mutate::Outcome::Refused => {}
             mutate::Outcome::Crash(why) => {
                 crashes += 1;
-                let ext = if mutant.starts_with(b"glTF") {
-                    "glb"
-                } else {
-                    "gltf"
-                };
                 let file = crash_dir.join(format!("crash-{rng_seed}-{executions}.{ext}"));
-                let saved = std::fs::create_dir_all(&crash_dir)
-                    .and_then(|()| std::fs::write(&file, &mutant));
+                let saved = std::fs::write(&file, &mutant)
+                    .and_then(|()| std::fs::write(file.with_extension("seed"), &seed.name));
                 eprintln!(
                     "crash ({}) from {}: {why}",
                     match saved {
@@ -65,6 +83,13 @@ fn main() -> std::process::ExitCode {
             }
         }
         executions += 1;
+        if last_report.elapsed() >= Duration::from_secs(10) {
+            last_report = Instant::now();
+            println!("fuzz_loader: progress: {executions} executions, {crashes} crashes");
+        }
+    }
+    for ext in ["gltf", "glb", "seed"] {
+        let _ = std::fs::remove_file(in_progress(ext));
     }
     let elapsed = start.elapsed().as_secs_f64();
     println!(

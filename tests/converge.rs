@@ -20,6 +20,7 @@ fn args(out: std::path::PathBuf) -> ConvergeArgs {
         seed: 1,
         threads: 2,
         integrator: glint::render::Integrator::Path,
+        asset_root: None,
         quiet: true,
     }
 }

@@ -6,7 +6,8 @@
 //! `{ position, look_at, up, yfov }`). Each job is turned into the argument list it stands
 //! for and parsed by the same clap definition as `glint render`, so a job accepts exactly the
 //! options and values `glint render` accepts, and every option added to `glint render` is a
-//! job key at once. Relative paths (`scene`, `output`, `lights`) are relative to the job file.
+//! job key at once. Relative paths (`scene`, `output`, `lights`, `asset_root`, `env`, and the
+//! top-level `output_root`) are relative to the job file.
 
 use super::sweep;
 use crate::render::options::RenderArgs;
@@ -105,17 +106,37 @@ pub enum JobFileError {
 /// Keys that set a whole batch, not a job.
 const BATCH_ONLY: [&str; 2] = ["threads", "quiet"];
 
+/// A job file read: its jobs and the settings of the whole batch.
+#[derive(Clone, Debug)]
+pub struct JobFile {
+    /// The expanded jobs.
+    pub jobs: Vec<Job>,
+    /// The top-level `output_root = "DIR"` (resolved against the job file's folder): the
+    /// folder outputs must resolve inside, instead of the job file's folder.
+    pub output_root: Option<PathBuf>,
+}
+
 /// Reads and expands the job file at `path`.
 pub fn load(path: &Path) -> Result<Vec<Job>, JobFileError> {
+    load_file(path).map(|file| file.jobs)
+}
+
+/// Reads the job file at `path`: its jobs and its batch settings.
+pub fn load_file(path: &Path) -> Result<JobFile, JobFileError> {
     let text = std::fs::read_to_string(path).map_err(|source| JobFileError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    parse(&text, path)
+    parse_file(&text, path)
 }
 
 /// Expands the job file text `text` (read from `path`, which anchors relative paths).
 pub fn parse(text: &str, path: &Path) -> Result<Vec<Job>, JobFileError> {
+    parse_file(text, path).map(|file| file.jobs)
+}
+
+/// Like [`parse`], with the batch settings.
+pub fn parse_file(text: &str, path: &Path) -> Result<JobFile, JobFileError> {
     let table: Table = text
         .parse()
         .map_err(|e: toml::de::Error| JobFileError::Syntax {
@@ -128,16 +149,27 @@ pub fn parse(text: &str, path: &Path) -> Result<Vec<Job>, JobFileError> {
         message,
     };
     for key in table.keys() {
-        if !["defaults", "job", "sweep"].contains(&key.as_str()) {
+        if !["defaults", "job", "sweep", "output_root"].contains(&key.as_str()) {
             return Err(err(
                 "the file",
                 format!(
-                    "unknown top-level key \"{key}\"; a job file has [defaults], [[job]] and \
-                     [[sweep]] tables"
+                    "unknown top-level key \"{key}\"; a job file has output_root = \"DIR\" \
+                     and [defaults], [[job]] and [[sweep]] tables"
                 ),
             ));
         }
     }
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let output_root = match table.get("output_root") {
+        None => None,
+        Some(Value::String(dir)) => Some(folder.join(dir)),
+        Some(_) => {
+            return Err(err(
+                "the file",
+                "output_root must be a folder path string (written before the first table)".into(),
+            ));
+        }
+    };
     let defaults = match table.get("defaults") {
         None => Table::new(),
         Some(Value::Table(t)) => t.clone(),
@@ -161,7 +193,6 @@ pub fn parse(text: &str, path: &Path) -> Result<Vec<Job>, JobFileError> {
             Some(_) => Err(err(name, format!("write each entry as a [[{name}]] table"))),
         }
     };
-    let folder = path.parent().unwrap_or(Path::new(""));
     let context = Context {
         path,
         folder,
@@ -200,7 +231,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Vec<Job>, JobFileError> {
             ));
         }
     }
-    Ok(jobs)
+    Ok(JobFile { jobs, output_root })
 }
 
 /// Whether option `key` takes a list of values (`light`, `aov`), so that an array is its
@@ -313,6 +344,8 @@ impl Context<'_> {
         resolve(&mut args.scene);
         resolve(&mut args.output);
         resolve(&mut args.lights_file);
+        resolve(&mut args.asset_root);
+        resolve(&mut args.env);
         args.quiet = true;
         Ok(Job {
             index,

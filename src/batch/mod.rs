@@ -7,8 +7,12 @@
 //! - [`runner`]: runs a shard's jobs: shared scene loads, one thread pool, skips complete
 //!   outputs, isolates failures.
 //! - [`report`]: the per-job JSON report.
+//! - [`claim`]: one lock file per job, so concurrent batches never render a job twice.
+//! - [`paths`]: outputs confined to an output root, output folders probed before rendering.
 
+pub mod claim;
 pub mod jobs;
+pub mod paths;
 pub mod report;
 pub mod runner;
 pub mod shard;
@@ -17,4 +21,4 @@ pub mod sweep;
 pub use jobs::{CameraOverride, Job, JobFileError};
 pub use report::{BatchReport, JobReport, JobStatus};
 pub use runner::{BatchOptions, run};
-pub use shard::Shard;
+pub use shard::{Shard, ShardSpec};

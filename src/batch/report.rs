@@ -15,6 +15,9 @@ pub enum JobStatus {
     Skipped,
     /// Could not be rendered; see the error.
     Failed,
+    /// Another live `glint batch` held the job's claim (it renders the job); not rendered
+    /// by this run.
+    Busy,
 }
 
 /// One job's outcome.
@@ -60,6 +63,8 @@ pub struct BatchReport {
     pub skipped: usize,
     /// Jobs of this shard that failed.
     pub failed: usize,
+    /// Jobs of this shard left to another batch process that held their claims.
+    pub busy: usize,
     /// Wall-clock seconds of the whole batch.
     pub seconds: f64,
     /// Seconds spent loading scenes and building their ray-query structures.
@@ -69,7 +74,8 @@ pub struct BatchReport {
 }
 
 impl BatchReport {
-    /// Whether every job of the shard was rendered or skipped.
+    /// Whether no job of the shard failed (each was rendered, skipped, or left to another
+    /// process that claimed it).
     pub fn all_succeeded(&self) -> bool {
         self.failed == 0
     }

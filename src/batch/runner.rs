@@ -1,22 +1,35 @@
 //! Runs the jobs of one shard.
 //!
-//! Jobs are grouped by (canonical scene path, backend). Each group's scene is loaded and its
-//! ray-query structure built once, then all its jobs render concurrently on one rayon pool,
-//! whose workers also share the tiles of every job: small jobs run side by side, a large job
-//! spreads over all cores, and no core idles while work is left in the group. Groups run one
-//! after the other, so one scene is in memory at a time. (Loading inside the concurrent part
-//! would need a lock held across rayon work, which can deadlock when a waiting worker steals
-//! a job that waits for the same lock.)
+//! Jobs are grouped by (canonical scene path, backend, scene index, time, load options). Each
+//! group's scene is loaded and its ray-query structure built once, then all its jobs render
+//! concurrently on one rayon pool, whose workers also share the tiles of every job: small
+//! jobs run side by side, a large job spreads over all cores, and no core idles while work is
+//! left in the group. Groups run one after the other, so one scene is in memory at a time.
+//! (Loading inside the concurrent part would need a lock held across rayon work, which can
+//! deadlock when a waiting worker steals a job that waits for the same lock.)
+//!
+//! Before anything renders, every job's output must resolve inside the output root
+//! ([`super::paths::confine`]) and every output folder must pass a write probe
+//! ([`super::paths::probe_writable`]); a job failing either is reported and not rendered.
 //!
 //! Resume: a job whose output exists and is complete is skipped. glint writes every output
 //! atomically (temporary file, then rename), so a file present under the output's name is
 //! complete. The runner still decodes the whole file and checks the image size against the
 //! job's `width`/`height` (where the job gives them), so a file glint did not write (copied
 //! in, truncated by hand) or a stale one of another size is rendered again; decoding a small
-//! image costs far less than rendering it. A failing job (bad scene, bad path, even a panic) is reported and
-//! the others go on.
+//! image costs far less than rendering it.
+//!
+//! Concurrent batches: a job renders only under its claim ([`super::claim`]), taken just
+//! before the job starts, so two processes on one job file share its jobs and never render
+//! one twice; a job claimed by another live process is reported `busy`. Holding the claim,
+//! the runner removes the temporary files that killed runs left for the job's output.
+//!
+//! Isolation: a failing job (bad scene, bad path, even a panic in its render or in its
+//! scene's load and preparation) is reported and the others go on.
 
+use super::claim;
 use super::jobs::Job;
+use super::paths;
 use super::report::{BatchReport, JobReport, JobStatus};
 use super::shard::Shard;
 use crate::accel::BackendKind;
@@ -24,14 +37,17 @@ use crate::render::job::{DEFAULT_ASPECT, DEFAULT_WIDTH, SceneSource};
 use crate::render::{self, PreparedScene, RenderError};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// How to run a batch.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct BatchOptions {
+    /// The folder every output must resolve inside; `None`: the job file's folder.
+    pub output_root: Option<PathBuf>,
     /// Which jobs to run.
     pub shard: Shard,
     /// Render jobs whose output already exists.
@@ -42,6 +58,9 @@ pub struct BatchOptions {
     pub quiet: bool,
 }
 
+/// Loads and prepares the scene of a group's jobs (all share it); the error is one line.
+pub type SceneLoader<'a> = dyn Fn(&Job) -> Result<PreparedScene, String> + Sync + 'a;
+
 /// Runs the jobs of `options.shard` out of `jobs` (all the jobs of `job_file`). Fails only
 /// when the thread pool cannot start; job failures are in the report.
 pub fn run(
@@ -49,11 +68,73 @@ pub fn run(
     job_file: &Path,
     options: &BatchOptions,
 ) -> Result<BatchReport, RenderError> {
+    run_with_loader(jobs, job_file, options, &load_scene)
+}
+
+/// The scene loader of [`run`]: the job's file, selection and load options, prepared for
+/// its backend.
+pub fn load_scene(job: &Job) -> Result<PreparedScene, String> {
+    PreparedScene::load(
+        &SceneSource::File(job.scene().to_path_buf()),
+        &crate::scene::gltf::SceneSelection {
+            scene: job.args.scene_index,
+            time: job.args.time,
+        },
+        &job.args.load_options(),
+        job.args.backend,
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// [`run`] with another scene loader (tests use one that fails or panics on purpose).
+pub fn run_with_loader(
+    jobs: &[Job],
+    job_file: &Path,
+    options: &BatchOptions,
+    load: &SceneLoader<'_>,
+) -> Result<BatchReport, RenderError> {
     let start = Instant::now();
     let mut reports: Vec<JobReport> = Vec::new();
+    let fail =
+        |job: &Job, message: String| report(job, JobStatus::Failed, 0.0, None, Some(message));
+    // Failures found before any render are printed at once (with -q too, as all failures).
+    let fail_early = |job: &Job, message: String| {
+        eprintln!("job {} ({}) failed: {message}", job.index, job.origin);
+        fail(job, message)
+    };
+    let root = match &options.output_root {
+        Some(root) => root.clone(),
+        None => match job_file.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        },
+    };
+    // Outputs inside the root, folders writable: checked for every job before any render.
     let mut todo: Vec<&Job> = Vec::new();
+    let mut probed: HashMap<PathBuf, Result<(), String>> = HashMap::new();
     for job in jobs.iter().filter(|j| options.shard.takes(j.index)) {
+        let resolved = match paths::confine(job.output(), &root) {
+            Ok(resolved) => resolved,
+            Err(message) => {
+                reports.push(fail_early(job, message));
+                continue;
+            }
+        };
+        let folder = resolved.parent().unwrap_or(Path::new("/")).to_path_buf();
+        let probe = probed
+            .entry(folder.clone())
+            .or_insert_with(|| paths::probe_writable(&folder));
+        if let Err(message) = probe {
+            reports.push(fail_early(job, message.clone()));
+            continue;
+        }
         if !options.force && output_is_complete(job) {
+            // A batch killed between writing this output and giving its claim up left the
+            // claim file (and perhaps temporaries of a later write): free, so removed.
+            if let Ok(Some(held)) = claim::try_claim(job.output()) {
+                held.remove_stray_temps();
+                held.release();
+            }
             reports.push(report(job, JobStatus::Skipped, 0.0, None, None));
         } else {
             todo.push(job);
@@ -72,19 +153,33 @@ pub fn run(
 
     let mut load_seconds = 0.0;
     for group in groups(&todo) {
+        // Another process may hold or have finished every job of the group: then loading
+        // the scene would be wasted. (Only a hint: the claims below decide.)
+        if !group
+            .iter()
+            .any(|job| might_need_rendering(job, options.force))
+        {
+            for job in group {
+                let status = if output_is_complete(job) {
+                    JobStatus::Skipped
+                } else {
+                    JobStatus::Busy
+                };
+                progress.pass_job(job, "not rendered here (done, or claimed by another batch)");
+                reports.push(busy_or_skipped(job, status));
+            }
+            continue;
+        }
         let load_start = Instant::now();
         let first = group[0];
         let prepared = pool.install(|| {
-            PreparedScene::load(
-                &SceneSource::File(first.scene().to_path_buf()),
-                &crate::scene::gltf::SceneSelection {
-                    scene: first.args.scene_index,
-                    time: first.args.time,
-                },
-                &first.args.load_options(),
-                first.args.backend,
-            )
-            .map_err(|e| e.to_string())
+            catch_unwind(AssertUnwindSafe(|| load(first))).unwrap_or_else(|_| {
+                Err(format!(
+                    "{}: loading or preparing the scene panicked (a bug in glint: please \
+                     report it with the file)",
+                    first.scene().display()
+                ))
+            })
         });
         load_seconds += load_start.elapsed().as_secs_f64();
         let prepared = match prepared {
@@ -92,13 +187,7 @@ pub fn run(
             Err(message) => {
                 for job in group {
                     progress.finish_job(job, Err(&message));
-                    reports.push(report(
-                        job,
-                        JobStatus::Failed,
-                        0.0,
-                        None,
-                        Some(message.clone()),
-                    ));
+                    reports.push(fail(job, message.clone()));
                 }
                 continue;
             }
@@ -106,22 +195,7 @@ pub fn run(
         let done: Vec<JobReport> = pool.install(|| {
             group
                 .par_iter()
-                .map(|job| {
-                    let job_start = Instant::now();
-                    let tick = |done: usize, total: usize| progress.tick(job, done, total);
-                    let result = catch_unwind(AssertUnwindSafe(|| {
-                        render_job(job, &prepared, &pool, &tick)
-                    }))
-                    .unwrap_or_else(|_| {
-                        Err("the render panicked (a bug in glint: please report it)".into())
-                    });
-                    let seconds = job_start.elapsed().as_secs_f64();
-                    progress.finish_job(job, result.as_ref().map(|_| ()).map_err(|e| e.as_str()));
-                    match result {
-                        Ok(stats) => report(job, JobStatus::Rendered, seconds, Some(stats), None),
-                        Err(e) => report(job, JobStatus::Failed, seconds, None, Some(e)),
-                    }
-                })
+                .map(|job| claim_and_render(job, &prepared, &pool, &progress, options.force))
                 .collect()
         });
         reports.extend(done);
@@ -136,16 +210,94 @@ pub fn run(
         rendered: count(JobStatus::Rendered),
         skipped: count(JobStatus::Skipped),
         failed: count(JobStatus::Failed),
+        busy: count(JobStatus::Busy),
         seconds: start.elapsed().as_secs_f64(),
         load_seconds,
         jobs: reports,
     })
 }
 
-/// Jobs grouped by (canonical scene, backend, scene index, animation time), groups in order
-/// of first appearance: jobs share a load only if they load the same scene at the same time.
+/// Whether `job` may still need rendering here: its claim is free (checked by taking and
+/// dropping it) and its output is not complete (or `force`).
+fn might_need_rendering(job: &Job, force: bool) -> bool {
+    match claim::try_claim(job.output()) {
+        // Cannot claim: let the job itself report why.
+        Err(_) => true,
+        Ok(None) => false,
+        Ok(Some(held)) => {
+            let needed = force || !output_is_complete(job);
+            // Released (file removed) either way, so a failed load leaves no claim file.
+            held.release();
+            needed
+        }
+    }
+}
+
+fn busy_or_skipped(job: &Job, status: JobStatus) -> JobReport {
+    let error = (status == JobStatus::Busy).then(|| {
+        format!(
+            "claimed by another glint batch ({}); not rendered here",
+            claim::holder(job.output()).unwrap_or_else(|| "holder unknown".into())
+        )
+    });
+    report(job, status, 0.0, None, error)
+}
+
+/// Claims, renders and writes one job, and gives its claim up.
+fn claim_and_render(
+    job: &Job,
+    prepared: &PreparedScene,
+    pool: &rayon::ThreadPool,
+    progress: &Progress,
+    force: bool,
+) -> JobReport {
+    let held = match claim::try_claim(job.output()) {
+        Ok(Some(held)) => held,
+        Ok(None) => {
+            progress.pass_job(job, "claimed by another glint batch; not rendered here");
+            return busy_or_skipped(job, JobStatus::Busy);
+        }
+        Err(e) => {
+            let message = format!(
+                "cannot create the claim file {}: {e}; check the output folder's permissions",
+                claim::claim_path(job.output()).display()
+            );
+            progress.finish_job(job, Err(&message));
+            return report(job, JobStatus::Failed, 0.0, None, Some(message));
+        }
+    };
+    held.remove_stray_temps();
+    // Another process may have finished the job since this one looked.
+    if !force && output_is_complete(job) {
+        held.release();
+        progress.pass_job(job, "written by another glint batch meanwhile; skipped");
+        return report(job, JobStatus::Skipped, 0.0, None, None);
+    }
+    let job_start = Instant::now();
+    let tick = |done: usize, total: usize| progress.tick(job, done, total);
+    let result = catch_unwind(AssertUnwindSafe(|| render_job(job, prepared, pool, &tick)))
+        .unwrap_or_else(|_| Err("the render panicked (a bug in glint: please report it)".into()));
+    held.release();
+    let seconds = job_start.elapsed().as_secs_f64();
+    progress.finish_job(job, result.as_ref().map(|_| ()).map_err(|e| e.as_str()));
+    match result {
+        Ok(stats) => report(job, JobStatus::Rendered, seconds, Some(stats), None),
+        Err(e) => report(job, JobStatus::Failed, seconds, None, Some(e)),
+    }
+}
+
+/// Jobs grouped by (canonical scene, backend, scene index, animation time, asset root and
+/// texture budget), groups in order of first appearance: jobs share a load only if they load
+/// the same scene at the same time under the same rules.
 fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
-    type Key = (PathBuf, BackendKind, Option<usize>, Option<u32>);
+    type Key = (
+        PathBuf,
+        BackendKind,
+        Option<usize>,
+        Option<u32>,
+        Option<PathBuf>,
+        u64,
+    );
     let mut keys: Vec<Key> = Vec::new();
     let mut groups: Vec<Vec<&Job>> = Vec::new();
     for &job in jobs {
@@ -155,6 +307,8 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
             job.args.backend,
             job.args.scene_index,
             job.args.time.map(f32::to_bits),
+            job.args.asset_root.clone(),
+            job.args.max_texture_pixels,
         );
         match keys.iter().position(|k| *k == key) {
             Some(i) => groups[i].push(job),
@@ -175,15 +329,7 @@ fn render_job(
     pool: &rayon::ThreadPool,
     tick: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<render::RenderStats, String> {
-    let output = job.output();
-    if let Some(folder) = output.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder).map_err(|e| {
-            format!(
-                "cannot create the output folder {}: {e}; fix the job's output path",
-                folder.display()
-            )
-        })?;
-    }
+    // The output folder exists: the write probe created it.
     let quiet = |_: String| {};
     let in_scene = |e: render::JobError| format!("{}: {e}", job.scene().display());
     let render_job = job.to_job().map_err(in_scene)?;
@@ -329,19 +475,26 @@ impl Progress {
     }
 
     fn finish_job(&self, job: &Job, result: Result<(), &str>) {
+        self.end_job(
+            job,
+            result.map(|()| format!("wrote {}", job.output().display())),
+        );
+    }
+
+    /// Ends a job that was not rendered here (complete already, or claimed elsewhere).
+    fn pass_job(&self, job: &Job, why: &str) {
+        self.end_job(job, Ok(why.to_string()));
+    }
+
+    fn end_job(&self, job: &Job, result: Result<String, &str>) {
         if let Some(&p) = self.positions.get(&job.index) {
             let before = self.reported[p].swap(self.estimates[p], Ordering::Relaxed);
             self.bar.inc(self.estimates[p].saturating_sub(before));
         }
         self.finished.fetch_add(1, Ordering::Relaxed);
         let line = match result {
-            Ok(()) if self.quiet => None,
-            Ok(()) => Some(format!(
-                "job {} ({}): wrote {}",
-                job.index,
-                job.origin,
-                job.output().display()
-            )),
+            Ok(_) if self.quiet => None,
+            Ok(what) => Some(format!("job {} ({}): {what}", job.index, job.origin)),
             Err(e) => {
                 self.failed.fetch_add(1, Ordering::Relaxed);
                 Some(format!("job {} ({}) failed: {e}", job.index, job.origin))
@@ -359,5 +512,59 @@ impl Progress {
 
     fn finish(&self) {
         self.bar.finish_and_clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene load that panics (no real input makes glint's loader panic any more, so the
+    /// loader is replaced): its group fails with a message, the other group renders.
+    #[test]
+    fn a_panic_while_loading_one_scene_fails_its_jobs_only() {
+        let dir = tempfile::tempdir().unwrap();
+        let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb");
+        let text = format!(
+            "[defaults]\nwidth = 8\nheight = 6\nspp = 1\nbackend = \"bvh\"\n\
+             [[job]]\nscene = \"boom.glb\"\noutput = \"a.png\"\n\
+             [[job]]\nscene = \"{demo}\"\noutput = \"b.png\"\n\
+             [[job]]\nscene = \"boom.glb\"\noutput = \"c.png\"\n",
+            demo = demo.display()
+        );
+        let file = dir.path().join("jobs.toml");
+        let jobs = super::super::jobs::parse(&text, &file).unwrap();
+        let loader = |job: &Job| {
+            if job.scene().ends_with("boom.glb") {
+                panic!("injected load panic");
+            }
+            load_scene(job)
+        };
+        let options = BatchOptions {
+            output_root: None,
+            shard: Shard::ALL,
+            force: false,
+            threads: 1,
+            quiet: true,
+        };
+        let report = run_with_loader(&jobs, &file, &options, &loader).unwrap();
+        let status: Vec<JobStatus> = report.jobs.iter().map(|j| j.status).collect();
+        assert_eq!(
+            status,
+            [JobStatus::Failed, JobStatus::Rendered, JobStatus::Failed]
+        );
+        let error = report.jobs[0].error.as_deref().unwrap_or_default();
+        assert!(
+            error.contains("boom.glb") && error.contains("panicked"),
+            "{error}"
+        );
+        assert!(dir.path().join("b.png").is_file());
+        assert!(!dir.path().join("a.png").exists());
+        // No claim or temporary file is left for any job.
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
     }
 }

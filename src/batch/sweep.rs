@@ -8,8 +8,14 @@
 //!   about `up` from the `+Z` side (the side a glTF camera looks from by default; for
 //!   `up` along Z it starts from `+X`).
 //!
+//! - `frames = "A..B"` (end exclusive, like Rust ranges: `"0..120"` is 120 frames, 0 to 119)
+//!   or a list of frame numbers, with `fps = F`: an animation, one job per frame k at
+//!   `time = k / F` seconds. With an orbit as well, the two must have as many frames and go
+//!   together: frame k has the orbit's camera k and the time of the k-th frame number (a
+//!   turntable of an animated model).
+//!
 //! Several swept keys give their cartesian product: keys in alphabetical order, the first
-//! varying slowest, the orbit's frame fastest. The `output` names each job through
+//! varying slowest, the frame (orbit and/or animation) fastest. The `output` names each job through
 //! placeholders: `{key}` is the job's value (for `scene`, the file's stem), `{frame}` the
 //! frame number, and `{key:03}` pads a number with zeros to 3 digits. Every key that takes
 //! more than one value must appear in the output, so that no two jobs write the same file.
@@ -27,12 +33,15 @@ pub struct Variant {
     pub label: String,
 }
 
-/// A swept dimension: its placeholder name and its values (with the text each puts in the
-/// output name).
+/// A swept dimension: its placeholder name and its values: the keys each sets, with the
+/// text it puts in the output name.
 struct Dimension {
     key: String,
-    values: Vec<(Value, String)>,
+    values: Vec<(Vec<(String, Value)>, String)>,
 }
+
+/// Most frames one sweep may have (as for an orbit).
+const MAX_FRAMES: i64 = 1_000_000;
 
 /// Expands one `[[sweep]]` table. `is_list_option` says which keys take a list as their value.
 pub fn expand(
@@ -43,14 +52,14 @@ pub fn expand(
     let mut dimensions = Vec::new();
     for (key, value) in table {
         match (key.as_str(), value) {
-            ("orbit", _) => {}
+            ("orbit" | "frames" | "fps", _) => {}
             (k, Value::Array(items)) if !is_list_option(k) => {
                 if items.is_empty() {
                     return Err(format!("key \"{k}\": the list of values to sweep is empty"));
                 }
                 let values = items
                     .iter()
-                    .map(|v| (v.clone(), placeholder_text(k, v)))
+                    .map(|v| (vec![(k.to_string(), v.clone())], placeholder_text(k, v)))
                     .collect();
                 dimensions.push(Dimension {
                     key: k.to_string(),
@@ -75,15 +84,47 @@ pub fn expand(
             return Err("key \"orbit\" must be a table { frames, center, radius, ... }".into());
         }
     };
-    if let Some(cameras) = frames {
-        dimensions.push(Dimension {
+    let animation = animation_frames(table)?;
+    match (frames, animation) {
+        (None, None) => {}
+        (Some(cameras), None) => dimensions.push(Dimension {
             key: "frame".into(),
             values: cameras
                 .into_iter()
                 .enumerate()
-                .map(|(k, camera)| (camera, k.to_string()))
+                .map(|(k, camera)| (vec![("camera".to_string(), camera)], k.to_string()))
                 .collect(),
-        });
+        }),
+        (None, Some(times)) => dimensions.push(Dimension {
+            key: "frame".into(),
+            values: times
+                .into_iter()
+                .map(|(frame, time)| (vec![("time".to_string(), time)], frame.to_string()))
+                .collect(),
+        }),
+        (Some(cameras), Some(times)) => {
+            if cameras.len() != times.len() {
+                return Err(format!(
+                    "the orbit has {} frames but frames gives {}: with both, frame k takes \
+                     the orbit's camera k and the animation's frame k, so give them as many",
+                    cameras.len(),
+                    times.len()
+                ));
+            }
+            dimensions.push(Dimension {
+                key: "frame".into(),
+                values: cameras
+                    .into_iter()
+                    .zip(times)
+                    .map(|(camera, (frame, time))| {
+                        (
+                            vec![("camera".to_string(), camera), ("time".to_string(), time)],
+                            frame.to_string(),
+                        )
+                    })
+                    .collect(),
+            });
+        }
     }
 
     let output = match base.get("output") {
@@ -109,10 +150,11 @@ pub fn expand(
     for d in &dimensions {
         let mut next = Vec::with_capacity(variants.len() * d.values.len());
         for (table, texts) in &variants {
-            for (value, text) in &d.values {
+            for (sets, text) in &d.values {
                 let mut table = table.clone();
-                let target = if d.key == "frame" { "camera" } else { &d.key };
-                table.insert(target.to_string(), value.clone());
+                for (key, value) in sets {
+                    table.insert(key.clone(), value.clone());
+                }
                 let mut texts = texts.clone();
                 texts.push((d.key.as_str(), text.as_str()));
                 next.push((table, texts));
@@ -138,6 +180,61 @@ pub fn expand(
             Ok(Variant { table, label })
         })
         .collect()
+}
+
+/// The frames of `frames` and `fps`, as (frame number, `time` value), if the sweep has them.
+fn animation_frames(table: &Table) -> Result<Option<Vec<(i64, Value)>>, String> {
+    let Some(frames) = table.get("frames") else {
+        if table.contains_key("fps") {
+            return Err("key \"fps\" without frames: add frames = \"0..N\"".into());
+        }
+        return Ok(None);
+    };
+    if table.contains_key("time") {
+        return Err(
+            "has both frames and time: frames sets each job's time (frame / fps); drop time".into(),
+        );
+    }
+    let bad_frames = || {
+        format!(
+            "key \"frames\" must be a range \"A..B\" (end exclusive: \"0..120\" is frames 0 to \
+             119) or a list of frame numbers, with 0 ≤ A < B and at most {MAX_FRAMES} frames"
+        )
+    };
+    let numbers: Vec<i64> = match frames {
+        Value::String(text) => {
+            let (a, b) = text.split_once("..").ok_or_else(bad_frames)?;
+            let (a, b): (i64, i64) = (
+                a.trim().parse().map_err(|_| bad_frames())?,
+                b.trim().parse().map_err(|_| bad_frames())?,
+            );
+            if a < 0 || b <= a || b - a > MAX_FRAMES {
+                return Err(bad_frames());
+            }
+            (a..b).collect()
+        }
+        Value::Array(items) if !items.is_empty() && items.len() as i64 <= MAX_FRAMES => items
+            .iter()
+            .map(|v| v.as_integer().filter(|&k| k >= 0))
+            .collect::<Option<Vec<i64>>>()
+            .ok_or_else(bad_frames)?,
+        _ => return Err(bad_frames()),
+    };
+    let fps = match table.get("fps") {
+        Some(Value::Integer(f)) if *f > 0 => *f as f64,
+        Some(Value::Float(f)) if f.is_finite() && *f > 0.0 => *f,
+        _ => {
+            return Err(
+                "frames needs fps = F, the frames per second (a positive number, e.g. 24)".into(),
+            );
+        }
+    };
+    Ok(Some(
+        numbers
+            .into_iter()
+            .map(|k| (k, Value::Float(k as f64 / fps)))
+            .collect(),
+    ))
 }
 
 /// The text a value puts into an output name.
@@ -325,6 +422,59 @@ mod tests {
         let expected = [Vec3::Z, Vec3::X, -Vec3::Z, -Vec3::X].map(|d| d * 2.0);
         for (p, e) in positions.iter().zip(expected) {
             assert!(p.distance(e) < 1e-5, "{p} vs {e}");
+        }
+    }
+
+    #[test]
+    fn frames_sweep_times_at_the_frame_rate() {
+        let v = sweep(
+            r#"output = "a_{frame:04}.png"
+               frames = "10..13"
+               fps = 24"#,
+        )
+        .unwrap();
+        let names: Vec<_> = v
+            .iter()
+            .map(|v| v.table["output"].as_str().unwrap())
+            .collect();
+        assert_eq!(names, ["a_0010.png", "a_0011.png", "a_0012.png"]);
+        let times: Vec<f64> = v
+            .iter()
+            .map(|v| v.table["time"].as_float().unwrap())
+            .collect();
+        for (t, k) in times.iter().zip(10..) {
+            assert!((t - k as f64 / 24.0).abs() < 1e-12);
+        }
+        assert!(
+            v.iter()
+                .all(|v| !v.table.contains_key("frames") && !v.table.contains_key("fps"))
+        );
+        let listed = sweep("output = \"b{frame}.png\"\nframes = [0, 48]\nfps = 24.0").unwrap();
+        assert_eq!(listed[1].table["time"].as_float(), Some(2.0));
+    }
+
+    #[test]
+    fn frames_with_an_orbit_go_together_and_bad_frames_are_refused() {
+        let v = sweep(
+            r#"output = "t{frame}.png"
+               frames = "0..4"
+               fps = 2
+               orbit = { frames = 4, center = [0, 0, 0], radius = 1 }"#,
+        )
+        .unwrap();
+        assert_eq!(v.len(), 4);
+        assert_eq!(v[3].table["time"].as_float(), Some(1.5));
+        assert!(v[3].table["camera"].is_table());
+        for bad in [
+            "output = \"x{frame}.png\"\nframes = \"0..3\"",
+            "output = \"x{frame}.png\"\nframes = \"3..3\"\nfps = 1",
+            "output = \"x{frame}.png\"\nframes = \"0..3\"\nfps = 0",
+            "output = \"x{frame}.png\"\nframes = \"0..3\"\nfps = 1\ntime = 2",
+            "output = \"x.png\"\nframes = \"0..3\"\nfps = 1",
+            "output = \"x{frame}.png\"\nfps = 1",
+            "output = \"x{frame}.png\"\nframes = \"0..3\"\nfps = 1\norbit = { frames = 2, center = [0, 0, 0], radius = 1 }",
+        ] {
+            assert!(sweep(bad).is_err(), "accepted: {bad}");
         }
     }
 }

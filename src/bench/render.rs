@@ -317,7 +317,16 @@ pub fn procedural_scene(builtin: Builtin, seed: u64) -> (Scene, Camera) {
 /// A glTF scene completed for benchmarking ([`scene::defaults::complete`]: its first camera or
 /// the default one, its lights or the default ones) and its camera.
 pub fn scene_to_bench(path: &std::path::Path) -> Result<(Scene, Camera), scene::gltf::LoadError> {
-    let mut scene = scene::gltf::load(path)?;
+    scene_to_bench_with(path, &scene::gltf::LoadOptions::default())
+}
+
+/// Like [`scene_to_bench`], loading under `options` (asset root, texture budget).
+pub fn scene_to_bench_with(
+    path: &std::path::Path,
+    options: &scene::gltf::LoadOptions,
+) -> Result<(Scene, Camera), scene::gltf::LoadError> {
+    let mut scene = scene::gltf::load_full(path, &scene::gltf::SceneSelection::default(), options)
+        .map(scene::gltf::print_warnings)?;
     scene::defaults::complete(&mut scene);
     let camera = scene
         .cameras

@@ -72,7 +72,13 @@ impl BenchScene {
 
     /// The triangles and first camera of a `.gltf` or `.glb` file.
     pub fn from_gltf(path: &Path) -> Result<Self, SceneError> {
-        let scene = gltf::load(path)?;
+        Self::from_gltf_with(path, &gltf::LoadOptions::default())
+    }
+
+    /// Like [`from_gltf`](Self::from_gltf), under `options` (asset root, texture budget).
+    pub fn from_gltf_with(path: &Path, options: &gltf::LoadOptions) -> Result<Self, SceneError> {
+        let scene = gltf::load_full(path, &gltf::SceneSelection::default(), options)
+            .map(gltf::print_warnings)?;
         Ok(Self {
             name: path.display().to_string(),
             camera: scene.cameras.first().cloned(),
@@ -90,6 +96,15 @@ impl BenchScene {
     /// A scene named on the command line: a built-in name (`sphere`, `terrain`, `soup`,
     /// generated at `size`) or the path of a `.gltf` / `.glb` file.
     pub fn from_arg(arg: &str, size: SceneSize) -> Result<Self, SceneError> {
+        Self::from_arg_with(arg, size, &gltf::LoadOptions::default())
+    }
+
+    /// Like [`from_arg`](Self::from_arg), loading files under `options`.
+    pub fn from_arg_with(
+        arg: &str,
+        size: SceneSize,
+        options: &gltf::LoadOptions,
+    ) -> Result<Self, SceneError> {
         if let Some(&builtin) = Builtin::ALL.iter().find(|b| b.name() == arg) {
             return Ok(Self::builtin(builtin, size));
         }
@@ -99,7 +114,7 @@ impl BenchScene {
             .and_then(|e| e.to_str())
             .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
         if is_gltf {
-            Self::from_gltf(path)
+            Self::from_gltf_with(path, options)
         } else {
             Err(SceneError::Unknown(arg.to_string()))
         }

@@ -1,7 +1,7 @@
 //! `glint batch`: render the jobs of a TOML job file (or one shard of them) in one process.
 
 use super::CliError;
-use crate::batch::{self, BatchOptions, Shard};
+use crate::batch::{self, BatchOptions, Shard, ShardSpec};
 use std::path::PathBuf;
 
 /// Arguments of `glint batch`.
@@ -13,9 +13,19 @@ pub struct BatchArgs {
     #[arg(long, value_name = "REPORT.json")]
     pub report: Option<PathBuf>,
     /// Run only the jobs whose index ≡ I (mod N), I from 0 (for Slurm arrays, Kubernetes
-    /// Indexed Jobs, GNU parallel).
-    #[arg(long, value_name = "I/N")]
-    pub shard: Option<Shard>,
+    /// Indexed Jobs, GNU parallel). `auto` reads the task index from the environment:
+    /// SLURM_ARRAY_TASK_ID (with SLURM_ARRAY_TASK_COUNT, or MIN/MAX) or JOB_COMPLETION_INDEX
+    /// (with --shard-count or GLINT_SHARD_COUNT).
+    #[arg(long, value_name = "I/N|auto")]
+    pub shard: Option<ShardSpec>,
+    /// The number of shards for `--shard auto` under a Kubernetes Indexed Job (its
+    /// `completions`); overrides GLINT_SHARD_COUNT.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub shard_count: Option<u32>,
+    /// Outputs must resolve inside this folder (after `..` and links); default: the job
+    /// file's `output_root`, else the job file's folder.
+    #[arg(long, value_name = "DIR")]
+    pub output_root: Option<PathBuf>,
     /// Render jobs whose output already exists (by default they are skipped).
     #[arg(long)]
     pub force: bool,
@@ -32,8 +42,25 @@ pub struct BatchArgs {
 
 /// Runs `glint batch`. Fails (non-zero exit) when the job file is unusable or any job failed.
 pub fn run(args: BatchArgs) -> Result<(), CliError> {
-    let jobs = batch::jobs::load(&args.jobs).map_err(CliError::from_display)?;
-    let shard = args.shard.unwrap_or(Shard::ALL);
+    let file = batch::jobs::load_file(&args.jobs).map_err(CliError::from_display)?;
+    let jobs = file.jobs;
+    let shard = match args.shard {
+        None => Shard::ALL,
+        Some(ShardSpec::Fixed(shard)) => shard,
+        Some(ShardSpec::Auto) => {
+            let (shard, line) =
+                batch::shard::from_environment(|name| std::env::var(name).ok(), args.shard_count)
+                    .map_err(CliError::Usage)?;
+            // On stderr even with -q: a farm's log should say which part this task took.
+            eprintln!("{line}");
+            shard
+        }
+    };
+    if args.shard_count.is_some() && args.shard != Some(ShardSpec::Auto) {
+        return Err(CliError::Usage(
+            "--shard-count applies to --shard auto only; with --shard I/N, N is the count".into(),
+        ));
+    }
     if args.list {
         use std::io::Write;
         let mut out = std::io::stdout().lock();
@@ -63,6 +90,7 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
         }
     }
     let options = BatchOptions {
+        output_root: args.output_root.clone().or(file.output_root),
         shard,
         force: args.force,
         threads: args.threads,
@@ -73,7 +101,7 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
         report.write_json(path).map_err(CliError::from_display)?;
     }
     println!(
-        "{}: shard {} ({} of {} jobs): {} rendered, {} skipped, {} failed in {:.2} s",
+        "{}: shard {} ({} of {} jobs): {} rendered, {} skipped, {} failed{} in {:.2} s",
         args.jobs.display(),
         report.shard,
         report.jobs.len(),
@@ -81,6 +109,11 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
         report.rendered,
         report.skipped,
         report.failed,
+        if report.busy > 0 {
+            format!(", {} left to another batch that claimed them", report.busy)
+        } else {
+            String::new()
+        },
         report.seconds
     );
     if report.all_succeeded() {

@@ -3,7 +3,7 @@
 use super::CliError;
 use crate::accel::{BackendKind, BuildOptions};
 use crate::bench::render::{
-    kernel_bench, procedural_scene, raw_trace, scene_to_bench, thread_scaling,
+    kernel_bench, procedural_scene, raw_trace, scene_to_bench_with, thread_scaling,
 };
 use crate::bench::{BenchScene, RaysConfig, SceneSize, run_rays};
 use crate::procedural::Builtin;
@@ -49,6 +49,10 @@ pub struct RaysArgs {
     /// Random rays of the incoherent workload (default 262144; 2048 with --quick).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub random_rays: Option<u32>,
+    /// Every file a glTF scene refers to must resolve inside this folder (as for glint
+    /// render).
+    #[arg(long, value_name = "DIR")]
+    pub asset_root: Option<PathBuf>,
 }
 
 impl RaysArgs {
@@ -89,7 +93,10 @@ impl RaysArgs {
         }
         self.scenes
             .iter()
-            .map(|arg| BenchScene::from_arg(arg, size).map_err(CliError::from_display))
+            .map(|arg| {
+                BenchScene::from_arg_with(arg, size, &load_options(&self.asset_root))
+                    .map_err(CliError::from_display)
+            })
             .collect()
     }
 }
@@ -212,6 +219,17 @@ pub struct KernelBenchArgs {
     /// radiance 1 (the renderer's default for scenes without lights).
     #[arg(long)]
     pub env: Option<PathBuf>,
+    /// Every file the glTF refers to must resolve inside this folder (as for glint render).
+    #[arg(long, value_name = "DIR")]
+    pub asset_root: Option<PathBuf>,
+}
+
+/// Loader options with `asset_root` and the default texture budget.
+fn load_options(asset_root: &Option<PathBuf>) -> crate::scene::gltf::LoadOptions {
+    crate::scene::gltf::LoadOptions {
+        asset_root: asset_root.clone(),
+        ..Default::default()
+    }
 }
 
 /// The path tracer's benchmark: the scene's own lights (no default sun) under `--env` or the
@@ -219,7 +237,13 @@ pub struct KernelBenchArgs {
 fn run_path_mix(args: &KernelBenchArgs) -> Result<(), CliError> {
     let (scene, camera) = match &args.scene {
         Some(path) => {
-            let scene = crate::scene::gltf::load(path).map_err(CliError::from_display)?;
+            let scene = crate::scene::gltf::load_full(
+                path,
+                &crate::scene::gltf::SceneSelection::default(),
+                &load_options(&args.asset_root),
+            )
+            .map(crate::scene::gltf::print_warnings)
+            .map_err(CliError::from_display)?;
             let camera = scene
                 .cameras
                 .first()
@@ -290,7 +314,8 @@ pub fn run_render(args: KernelBenchArgs) -> Result<(), CliError> {
         return run_path_mix(&args);
     }
     let (scene, camera) = match &args.scene {
-        Some(path) => scene_to_bench(path).map_err(CliError::from_display)?,
+        Some(path) => scene_to_bench_with(path, &load_options(&args.asset_root))
+            .map_err(CliError::from_display)?,
         None => procedural_scene(procedural(&args.procedural)?, 1),
     };
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())

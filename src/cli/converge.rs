@@ -54,6 +54,9 @@ pub struct ConvergeArgs {
     /// Light transport measured: path or direct.
     #[arg(long, value_enum, default_value_t = crate::render::Integrator::Path)]
     pub integrator: crate::render::Integrator,
+    /// Every file the glTF refers to must resolve inside this folder (as for glint render).
+    #[arg(long, value_name = "DIR")]
+    pub asset_root: Option<PathBuf>,
     /// Print nothing but errors and the slopes.
     #[arg(long, short)]
     pub quiet: bool,
@@ -91,7 +94,13 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
         None => SceneSource::Demo,
     };
     let label = source.label();
-    let mut scene = source.load().map_err(crate::render::JobError::from)?;
+    let options = crate::scene::gltf::LoadOptions {
+        asset_root: args.asset_root.clone(),
+        ..Default::default()
+    };
+    let mut scene = source
+        .load_with(&crate::scene::gltf::SceneSelection::default(), &options)
+        .map_err(crate::render::JobError::from)?;
     for added in scene::defaults::complete(&mut scene) {
         say(added);
     }

@@ -1,10 +1,12 @@
 //! `glint merge`: combine the partial EXRs of a split render into the final image.
 
 use super::CliError;
-use crate::output::partial::read_partial_exr;
+use crate::output::fingerprint::SceneTag;
+use crate::output::partial::read_partial_exr_tagged;
 use crate::output::{OutputFormat, PngOptions, write_exr, write_png};
 use crate::render::partial;
-use std::path::PathBuf;
+use crate::render::partial::PartialImage;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `glint merge`.
 #[derive(clap::Args, Debug, Clone)]
@@ -23,12 +25,18 @@ pub struct MergeArgs {
 /// Runs `glint merge`.
 pub fn run(args: MergeArgs) -> Result<(), CliError> {
     let format = OutputFormat::from_path(&args.output).map_err(CliError::from_display)?;
-    let parts = args
+    let tagged = args
         .parts
         .iter()
-        .map(|p| read_partial_exr(p))
+        .map(|p| read_partial_exr_tagged(p))
         .collect::<Result<Vec<_>, _>>()
         .map_err(CliError::from_display)?;
+    check_same_scene(&args.parts, &tagged, &|line| {
+        if !args.quiet {
+            eprintln!("{line}");
+        }
+    })?;
+    let parts: Vec<_> = tagged.into_iter().map(|(part, _)| part).collect();
     let (image, aovs) = partial::merge(&parts).map_err(|e| {
         let names: Vec<String> = args.parts.iter().map(|p| p.display().to_string()).collect();
         CliError::Usage(format!("merging {}: {e}", names.join(", ")))
@@ -47,6 +55,49 @@ pub fn run(args: MergeArgs) -> Result<(), CliError> {
             parts.len(),
             parts[0].spp
         );
+    }
+    Ok(())
+}
+
+/// Refuses parts whose scene fingerprints differ, naming both parts and their scenes. A part
+/// without a fingerprint (written by an older glint) cannot be checked: a note says so.
+fn check_same_scene(
+    paths: &[PathBuf],
+    parts: &[(PartialImage, Option<SceneTag>)],
+    say: &dyn Fn(String),
+) -> Result<(), CliError> {
+    let mut first: Option<(&Path, &SceneTag)> = None;
+    for (path, (_, tag)) in paths.iter().zip(parts) {
+        let Some(tag) = tag else {
+            say(format!(
+                "note: {} carries no scene fingerprint (written by an older glint); it cannot \
+                 be checked against the other parts' scene",
+                path.display()
+            ));
+            continue;
+        };
+        match first {
+            None => first = Some((path, tag)),
+            Some((first_path, first_tag)) if first_tag.fingerprint != tag.fingerprint => {
+                let what = if first_tag.scene == tag.scene {
+                    "the same scene file name but different contents, scene, time, size or camera"
+                } else {
+                    "different scenes"
+                };
+                return Err(CliError::Usage(format!(
+                    "{} was rendered from {} (fingerprint {}) but {} from {} (fingerprint {}): \
+                     {what}; merge only parts of one render command that differ in \
+                     --sample-range or --shard",
+                    path.display(),
+                    tag.scene,
+                    tag.fingerprint,
+                    first_path.display(),
+                    first_tag.scene,
+                    first_tag.fingerprint
+                )));
+            }
+            Some(_) => {}
+        }
     }
     Ok(())
 }

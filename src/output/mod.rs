@@ -5,6 +5,7 @@
 
 pub mod atomic;
 pub mod exr;
+pub mod fingerprint;
 pub mod partial;
 pub mod png;
 

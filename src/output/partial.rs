@@ -3,8 +3,10 @@
 //! Channels (32-bit float): `R`, `G`, `B` and the selected AOVs (`albedo.*`, `normal.*`,
 //! `depth.Z`) as *sums* over the part's samples, plus `weight`, the summed sample weight.
 //! Layer attributes `glint.spp`, `glint.seed`, `glint.samples` (`START..END`) say which render
-//! and which samples the part holds; `glint merge` checks them before adding parts.
+//! and which samples the part holds, and `glint.scene` and `glint.fingerprint` what it was
+//! rendered from ([`super::fingerprint`]); `glint merge` checks them before adding parts.
 
+use crate::output::fingerprint::SceneTag;
 use crate::output::{OutputError, write_atomically};
 use crate::render::partial::{PartialImage, parse_sample_range};
 use crate::render::{Aovs, Image};
@@ -18,6 +20,8 @@ use std::path::{Path, PathBuf};
 const SPP: &str = "glint.spp";
 const SEED: &str = "glint.seed";
 const SAMPLES: &str = "glint.samples";
+const SCENE: &str = "glint.scene";
+const FINGERPRINT: &str = "glint.fingerprint";
 
 /// Why a partial EXR cannot be read.
 #[derive(Debug, thiserror::Error)]
@@ -43,8 +47,17 @@ pub enum PartError {
     },
 }
 
-/// Writes `part` to `path` atomically.
+/// Writes `part` to `path` atomically, without a scene tag.
 pub fn write_partial_exr(path: &Path, part: &PartialImage) -> Result<(), OutputError> {
+    write_partial_exr_tagged(path, part, None)
+}
+
+/// Writes `part` to `path` atomically, with the scene it was rendered from.
+pub fn write_partial_exr_tagged(
+    path: &Path,
+    part: &PartialImage,
+    tag: Option<&SceneTag>,
+) -> Result<(), OutputError> {
     let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
     let mut add3 = |names: [&str; 3], image: &Image<Vec3>| {
         for (axis, name) in names.iter().enumerate() {
@@ -86,6 +99,10 @@ pub fn write_partial_exr(path: &Path, part: &PartialImage) -> Result<(), OutputE
         SAMPLES,
         format!("{}..{}", part.samples.start, part.samples.end),
     );
+    if let Some(tag) = tag {
+        text(SCENE, tag.scene.clone());
+        text(FINGERPRINT, tag.fingerprint.clone());
+    }
     let size = (
         part.radiance_sum.width as usize,
         part.radiance_sum.height as usize,
@@ -111,6 +128,12 @@ pub fn write_partial_exr(path: &Path, part: &PartialImage) -> Result<(), OutputE
 
 /// Reads a partial EXR written by [`write_partial_exr`].
 pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
+    read_partial_exr_tagged(path).map(|(part, _)| part)
+}
+
+/// Reads a partial EXR and its scene tag (`None` for parts written without one, e.g. by
+/// glint versions before the tag).
+pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<SceneTag>), PartError> {
     use exr::prelude::{ReadChannels, ReadLayers};
     let image = exr::prelude::read()
         .no_deep_data()
@@ -140,6 +163,10 @@ pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
         .map_err(|_| not_partial(format!("'{SEED}' is not a seed")))?;
     let samples = parse_sample_range(&text(SAMPLES)?)
         .map_err(|e| not_partial(format!("'{SAMPLES}': {e}")))?;
+    let tag = match (text(SCENE), text(FINGERPRINT)) {
+        (Ok(scene), Ok(fingerprint)) => Some(SceneTag { scene, fingerprint }),
+        _ => None,
+    };
     let (width, height) = (layer.size.0 as u32, layer.size.1 as u32);
     let channel = |name: &str| -> Option<Vec<f32>> {
         layer
@@ -165,7 +192,7 @@ pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
     let radiance_sum =
         image3(["R", "G", "B"]).ok_or_else(|| not_partial("no R, G, B channels".into()))?;
     let weight = channel("weight").ok_or_else(|| not_partial("no 'weight' channel".into()))?;
-    Ok(PartialImage {
+    let part = PartialImage {
         spp,
         seed,
         samples,
@@ -189,7 +216,8 @@ pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
             height,
             pixels: weight,
         },
-    })
+    };
+    Ok((part, tag))
 }
 
 #[cfg(test)]
@@ -217,7 +245,16 @@ mod tests {
             weight: Image::filled(3, 2, 5.0),
         };
         write_partial_exr(&path, &part).unwrap();
-        assert_eq!(read_partial_exr(&path).unwrap(), part);
+        assert_eq!(
+            read_partial_exr_tagged(&path).unwrap(),
+            (part.clone(), None)
+        );
+        let tag = SceneTag {
+            scene: "a.glb".into(),
+            fingerprint: "0123456789abcdef0123456789abcdef".into(),
+        };
+        write_partial_exr_tagged(&path, &part, Some(&tag)).unwrap();
+        assert_eq!(read_partial_exr_tagged(&path).unwrap(), (part, Some(tag)));
     }
 
     #[test]

@@ -620,7 +620,13 @@ fn run_in_scene(
         let (part, stats) =
             super::partial::render_partial(&inputs, &settings, samples.clone(), progress)?;
         if let Some(out) = output {
-            crate::output::partial::write_partial_exr(&out.path, &part)?;
+            // What the part was rendered from, so that `glint merge` refuses foreign parts.
+            let tag = crate::output::fingerprint::SceneTag::of(job, &camera, width, height)
+                .map_err(|source| OutputError::Io {
+                    path: out.path.clone(),
+                    source,
+                })?;
+            crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
         return Ok(JobOutput {
