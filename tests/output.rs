@@ -114,6 +114,7 @@ fn exr_round_trip_with_aovs() {
             height: 1,
             pixels: vec![1.5, 0.0, 1e6],
         }),
+        ..Aovs::default()
     };
     write_exr(&path, &radiance, &aovs).unwrap();
 

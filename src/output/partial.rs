@@ -175,6 +175,7 @@ pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
                 height,
                 pixels,
             }),
+            ..Aovs::default()
         },
         weight: Image {
             width,

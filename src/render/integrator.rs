@@ -159,6 +159,9 @@ pub(crate) fn render_tile<
         while !s.rays.is_empty() {
             let primary = depth == 0;
             let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, &mut counts);
+            if primary {
+                super::ids::record_coverage(ctx, &mut sums, &s.hits);
+            }
 
             s.points.clear();
             s.next_rays.clear();

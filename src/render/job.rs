@@ -365,6 +365,14 @@ impl Job {
                 self.settings.spp
             ));
         }
+        let partial = matches!(self.samples, Samples::Range(_) | Samples::Shard { .. });
+        if partial && self.settings.aovs.any_ids() {
+            return bad(
+                "--aov instance_id, material_id and coverage are whole-image results, not \
+                 sums that merge: render them without --sample-range/--shard"
+                    .into(),
+            );
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width and --height must be at least 1".into());
         }
@@ -384,7 +392,6 @@ impl Job {
         };
         let format = OutputFormat::from_path(&out.path)?;
         let path = out.path.display();
-        let partial = matches!(self.samples, Samples::Range(_) | Samples::Shard { .. });
         if format == OutputFormat::Png && self.settings.aovs.any() {
             return bad(format!(
                 "{path}: --aov needs an EXR output (AOVs are linear data); use -o NAME.exr"
@@ -515,7 +522,31 @@ pub fn run(
     progress: Option<Progress<'_>>,
     say: &dyn Fn(String),
 ) -> Result<JobOutput, JobError> {
-    run_in_scene(job, prepared, pool, progress, say).map_err(|e| e.in_scene(&prepared.label))
+    run_in_scene(job, prepared, pool, progress, say, None).map_err(|e| e.in_scene(&prepared.label))
+}
+
+/// [`run`], stoppable: setting `cancel` makes the render stop at the next tile and the job fail
+/// with [`RenderError::Cancelled`] (nothing is written). The Python package's Ctrl-C.
+pub fn run_cancellable(
+    job: &Job,
+    prepared: &PreparedScene,
+    pool: Option<&rayon::ThreadPool>,
+    progress: Option<Progress<'_>>,
+    say: &dyn Fn(String),
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<JobOutput, JobError> {
+    run_in_scene(job, prepared, pool, progress, say, Some(cancel))
+        .map_err(|e| e.in_scene(&prepared.label))
+}
+
+/// Resolved images of a job, for callers that keep them in memory (the Python package):
+/// what [`run_images`] returns besides the [`JobOutput`].
+#[derive(Clone, Debug)]
+pub struct JobImages {
+    /// Radiance, W/(m²·sr).
+    pub image: super::Image<Vec3>,
+    /// The selected AOVs.
+    pub aovs: super::Aovs,
 }
 
 fn run_in_scene(
@@ -524,7 +555,32 @@ fn run_in_scene(
     pool: Option<&rayon::ThreadPool>,
     progress: Option<Progress<'_>>,
     say: &dyn Fn(String),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<JobOutput, JobError> {
+    run_keeping(job, prepared, pool, progress, say, cancel).map(|(output, _)| output)
+}
+
+/// [`run_cancellable`] that also returns the resolved images (`None` for a partial job,
+/// whose output is sums, not an image).
+pub fn run_images(
+    job: &Job,
+    prepared: &PreparedScene,
+    pool: Option<&rayon::ThreadPool>,
+    progress: Option<Progress<'_>>,
+    say: &dyn Fn(String),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<(JobOutput, Option<JobImages>), JobError> {
+    run_keeping(job, prepared, pool, progress, say, cancel).map_err(|e| e.in_scene(&prepared.label))
+}
+
+fn run_keeping(
+    job: &Job,
+    prepared: &PreparedScene,
+    pool: Option<&rayon::ThreadPool>,
+    progress: Option<Progress<'_>>,
+    say: &dyn Fn(String),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<(JobOutput, Option<JobImages>), JobError> {
     job.check()?;
     let scene = &prepared.scene;
     let camera = job.camera(scene)?;
@@ -582,6 +638,7 @@ fn run_in_scene(
         mipmaps: Some(&prepared.mipmaps),
         environment: environment.as_ref(),
         area_lights: Some(&prepared.area_lights),
+        cancel,
     };
     let output = job.output.as_ref();
     if let Some(samples) = job.partial_samples()? {
@@ -591,14 +648,17 @@ fn run_in_scene(
             crate::output::partial::write_partial_exr(&out.path, &part)?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
-        return Ok(JobOutput {
-            output: output.map(|o| o.path.clone()),
-            width,
-            height,
-            samples,
-            stats,
-            note,
-        });
+        return Ok((
+            JobOutput {
+                output: output.map(|o| o.path.clone()),
+                width,
+                height,
+                samples,
+                stats,
+                note,
+            },
+            None,
+        ));
     }
     let (image, aovs, stats, samples, note) = match &job.samples {
         Samples::Progressive(rule) => {
@@ -634,14 +694,17 @@ fn run_in_scene(
             OutputFormat::Exr => write_exr(&out.path, &image, &aovs),
         }?;
     }
-    Ok(JobOutput {
-        output: output.map(|o| o.path.clone()),
-        width,
-        height,
-        samples,
-        stats,
-        note,
-    })
+    Ok((
+        JobOutput {
+            output: output.map(|o| o.path.clone()),
+            width,
+            height,
+            samples,
+            stats,
+            note,
+        },
+        Some(JobImages { image, aovs }),
+    ))
 }
 
 /// The aspect ratio (width / height) the camera fixes, if any.

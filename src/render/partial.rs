@@ -230,6 +230,7 @@ pub fn merge(parts: &[PartialImage]) -> Result<(Image<Vec3>, Aovs), MergeError> 
             albedo,
             normal,
             depth,
+            ..Aovs::default()
         },
     ))
 }

@@ -140,6 +140,9 @@ pub(crate) fn render_tile_path<
         while !s.rays.is_empty() {
             let primary = depth == 0;
             let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, &mut counts);
+            if primary {
+                super::ids::record_coverage(ctx, &mut sums, &s.hits);
+            }
             s.next_rays.clear();
             s.next_paths.clear();
             s.shadow_rays.clear();

@@ -310,7 +310,8 @@ fn load_bytes(
                         morph_weights: &weights,
                         skin: joints.as_deref(),
                     };
-                    if let Some(built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                    if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                        built.node = u32::try_from(node.node.index()).ok();
                         scene.meshes.push(built);
                     }
                 }
