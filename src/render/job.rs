@@ -785,8 +785,43 @@ mod tests {
         assert!(job("a.exr", &|j| j.output.as_mut().unwrap().png16 = true).is_err());
         assert!(job("a.png", &|j| j.settings.spp = 0).is_err());
         assert!(job("missing/a.png", &|_| {}).is_err());
+        // ID AOVs are not sums: a partial render cannot carry them.
+        let partial_ids = |j: &mut Job| {
+            j.settings.aovs.coverage = true;
+            j.samples = Samples::Shard { index: 0, count: 2 };
+        };
+        assert!(job("a.exr", &partial_ids).is_err());
+        assert!(job("a.exr", &|j| j.settings.aovs.instance_id = true).is_ok());
+        assert!(job("a.png", &|j| j.settings.aovs.material_id = true).is_err());
         let notes = job("a.exr", &|j| j.output.as_mut().unwrap().exposure_ev = 1.0).unwrap();
         assert_eq!(notes.len(), 1);
+    }
+
+    #[test]
+    fn a_cancelled_job_fails_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.exr");
+        let job = Job {
+            width: Some(8),
+            height: Some(6),
+            backend: BackendKind::Bvh,
+            output: Some(OutputSpec {
+                path: path.clone(),
+                ..OutputSpec::default()
+            }),
+            ..Job::default()
+        };
+        let prepared =
+            PreparedScene::load(&job.scene, &job.selection, &job.load_options, job.backend)
+                .unwrap();
+        let cancel = std::sync::atomic::AtomicBool::new(true);
+        let err = run_cancellable(&job, &prepared, None, None, &|_| {}, &cancel).unwrap_err();
+        assert!(err.to_string().contains("cancelled"), "{err}");
+        assert!(!path.exists());
+        // The same job, not cancelled, renders.
+        cancel.store(false, std::sync::atomic::Ordering::Relaxed);
+        assert!(run_cancellable(&job, &prepared, None, None, &|_| {}, &cancel).is_ok());
+        assert!(path.exists());
     }
 
     #[test]
