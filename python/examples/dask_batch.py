@@ -45,7 +45,11 @@ def render_chunk(scene_path, jobs, threads):
 
 def turntable(scene_path, count, out, width, height, spp):
     """`count` jobs circling the scene, each writing out/frame_NNNN.exr with IDs."""
-    scene = _scene(scene_path)
+    import glint
+
+    # Not through the workers' cache: render_chunk travels to the workers by value, with
+    # the globals it uses, and a loaded scene does not pickle.
+    scene = glint.load(scene_path)
     lo, hi = scene.bounds
     centre = [(a + b) / 2 for a, b in zip(lo, hi)]
     radius = max(b - a for a, b in zip(lo, hi))

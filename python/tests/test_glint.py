@@ -3,10 +3,12 @@
 Images are small (at most a few thousand pixels) so that the suite runs in seconds.
 """
 
+import importlib.util
 import math
 import os
 import signal
 import subprocess
+import sys
 import threading
 import time
 
@@ -278,3 +280,33 @@ def test_render_batch_names_the_failing_job():
     with pytest.raises(glint.GlintError, match="job 1"):
         glint.render_batch([{"scene": glint.load(), "width": 4, "height": 2, "spp": 1},
                             {"scene": glint.load(), "width": 4, "height": 2, "camera": 9}])
+
+
+# ---------------------------------------------------------------- the cluster example
+
+
+def test_dask_example_runs_on_a_local_cluster(tmp_path):
+    pytest.importorskip("distributed")
+    example = os.path.join(os.path.dirname(__file__), "..", "examples", "dask_batch.py")
+    out = tmp_path / "frames"
+    run = subprocess.run(
+        [sys.executable, example, "--jobs", "4", "--chunk", "2", "--workers", "2",
+         "--width", "32", "--height", "18", "--spp", "2", "--out", str(out)],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "4 jobs in 2 tasks on 2 workers" in run.stdout
+    frames = sorted(out.glob("frame_*.exr"))
+    assert len(frames) == 4
+    # The first frame equals the same job rendered in this process.
+    spec = importlib.util.spec_from_file_location("dask_batch", example)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    job = module.turntable(None, 4, out, 32, 18, 2)[0]
+    assert job["output"] == str(frames[0])
+    del job["output"]
+    local = glint.load().render(**job)
+    first = read_exr(frames[0])
+    rgb = np.stack([first["R"], first["G"], first["B"]], axis=-1)
+    assert np.array_equal(bits(local["radiance"]), bits(rgb))
+    assert np.array_equal(local["instance_id"], first["instance_id"])
