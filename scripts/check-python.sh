@@ -6,7 +6,7 @@
 #      pytest, openexr (the suite's independent EXR reader) and dask[distributed] (the cluster
 #      example's test, on a local cluster), installed once.
 #   2. `maturin develop`: builds the extension in the dev profile, in this repository's target/
-#      (python/ is a workspace member), so it links the glint library `cargo test` compiled.
+#      (python/ is a workspace member): the compiled dependencies are shared, no second copy.
 #   3. The command-line glint of the same build, for the comparisons.
 #   4. pytest.
 # Run by scripts/test.sh (skip it there with GLINT_PYTHON_CHECK=0). Exits non-zero on failure.
