@@ -3,7 +3,8 @@
 #   libembree-dev  Embree (3.13 on Debian 12, 4.x on Debian 13 / Ubuntu 24.04)
 #   libclang-dev   libclang for bindgen
 #   libfontconfig1-dev, fonts-dejavu-core   fonts for the plots of `glint converge`
-#   pkg-config, a C compiler, python3-pip (the Embree 4 check), curl (for rustup, if Rust is
+#   pkg-config, a C compiler, python3-pip (the Embree 4 check), python3-venv (the Python
+#   package's tests), curl (for rustup, if Rust is
 #   missing)
 # and a Rust toolchain through rustup when cargo is not on PATH.
 set -euo pipefail
@@ -18,6 +19,8 @@ dpkg -s libfontconfig1-dev >/dev/null 2>&1 || need+=(libfontconfig1-dev)
 dpkg -s fonts-dejavu-core >/dev/null 2>&1 || need+=(fonts-dejavu-core)
 # The Embree 4 check in scripts/test.sh fetches a wheel with pip.
 python3 -m pip --version >/dev/null 2>&1 || need+=(python3-pip)
+# The Python package's tests (scripts/check-python.sh) build it in a venv.
+python3 -c "import venv, ensurepip" >/dev/null 2>&1 || need+=(python3-venv)
 if ! command -v cargo >/dev/null 2>&1 && [ ! -x "$HOME/.cargo/bin/cargo" ]; then
     command -v curl >/dev/null 2>&1 || need+=(curl ca-certificates)
 fi

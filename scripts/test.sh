@@ -4,12 +4,16 @@
 # path too (scripts/check-embree4.sh: Embree 4 headers from the embree4-sys crate, a real
 # libembree4 from the embreex wheel; it reuses target/ and rebuilds glint alone). Set
 # GLINT_EMBREE4_CHECK=0 to skip that step on a machine without access to the package
-# registries.
+# registries. Before it, scripts/check-python.sh builds the Python package into target/pyvenv
+# and runs its pytest suite (python/tests/); set GLINT_PYTHON_CHECK=0 to skip that step.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 export PATH="$HOME/.cargo/bin:$PATH"
 cargo test --locked "$@"
+if [ "${GLINT_PYTHON_CHECK:-1}" != "0" ]; then
+    scripts/check-python.sh
+fi
 if [ "${GLINT_EMBREE4_CHECK:-1}" != "0" ]; then
     EMBREE4_TARGET_DIR=target scripts/check-embree4.sh
 fi

@@ -333,6 +333,7 @@ fn merged_parts_equal_the_single_render_with_the_same_seed() {
             albedo: true,
             normal: false,
             depth: true,
+            ..AovSelection::default()
         },
         ..RenderSettings::default()
     };
@@ -346,6 +347,7 @@ fn merged_parts_equal_the_single_render_with_the_same_seed() {
         mipmaps: None,
         environment: None,
         area_lights: None,
+        cancel: None,
     };
     let part = |r: std::ops::Range<u32>| render_partial(&inputs, &settings, r, None).unwrap().0;
     // Given out of order: the merge sorts by sample range.

@@ -41,6 +41,7 @@ fn settings(
             albedo: true,
             normal: true,
             depth: true,
+            ..AovSelection::default()
         },
         ..RenderSettings::default()
     }

@@ -112,6 +112,7 @@ fn settings() -> RenderSettings {
             albedo: true,
             normal: true,
             depth: true,
+            ..AovSelection::default()
         },
         ..centre_settings(48, 36)
     }

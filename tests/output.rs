@@ -119,6 +119,7 @@ fn exr_round_trip_with_aovs() {
             height: 1,
             pixels: vec![1.0, 0.25, 0.0],
         }),
+        ..Aovs::default()
     };
     write_exr(&path, &radiance, &aovs).unwrap();
 

@@ -159,7 +159,8 @@ fn renders_a_gltf_scene_to_exr_with_the_closed_form_at_the_centre() {
             (centre / want - 1.0).abs() < 5e-3,
             "{backend}: {centre} vs {want}"
         );
-        assert_eq!(layer.channel_data.list.len(), 10);
+        // R, G, B, A and the albedo, normal and depth AOVs.
+        assert_eq!(layer.channel_data.list.len(), 11);
     }
     assert_eq!(files_in(dir.path()), ["quad.bin", "quad.exr", "quad.gltf"]);
 }

@@ -2,13 +2,16 @@
 //!
 //! Channels: `R`, `G`, `B` (radiance, W/(m²·sr)), plus for each selected AOV
 //! `albedo.R/G/B`, `normal.X/Y/Z` (world space) and `depth.Z` (scene units), named with the
-//! layer-prefix convention OpenEXR readers group into layers, and `A`, the coverage (the
-//! filter-weighted fraction of camera samples that hit the scene). With the environment
-//! hidden (`--env-hidden`) the colour is premultiplied by `A`, as OpenEXR's compositing
-//! convention expects; with it visible, uncovered samples carry the environment instead.
-//! Exposure is not applied.
+//! layer-prefix convention OpenEXR readers group into layers; `A`, the coverage (the
+//! filter-weighted fraction of camera samples that hit the scene: with the environment
+//! hidden, `--env-hidden`, the colour is premultiplied by it, as OpenEXR's compositing
+//! convention expects; with it visible, uncovered samples carry the environment instead);
+//! the ID AOVs ([`crate::render::ids`]) as 32-bit unsigned integers `instance_id` and
+//! `material_id`, and the coverage layers as `coverage.id0` … `coverage.id3` (uint32) with
+//! `coverage.fraction0` … `coverage.fraction3` (float). Exposure is not applied.
 
 use super::{OutputError, write_atomically};
+use crate::render::ids::COVERAGE_LAYERS;
 use crate::render::{Aovs, Image};
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes, SmallVec, WritableImage,
@@ -63,6 +66,35 @@ pub fn write_exr(
             return Err(encode_error("alpha has the wrong size".into()));
         }
         channels.push(AnyChannel::new("A", FlatSamples::F32(alpha.pixels.clone())));
+    }
+    let mut add_u32 = |name: String, pixels: Vec<u32>| -> Result<(), OutputError> {
+        if pixels.len() != pixel_count {
+            return Err(encode_error(format!("{name} AOV has the wrong size")));
+        }
+        channels.push(AnyChannel::new(name.as_str(), FlatSamples::U32(pixels)));
+        Ok(())
+    };
+    if let Some(ids) = &aovs.instance_id {
+        add_u32("instance_id".into(), ids.pixels.clone())?;
+    }
+    if let Some(ids) = &aovs.material_id {
+        add_u32("material_id".into(), ids.pixels.clone())?;
+    }
+    if let Some(coverage) = &aovs.coverage {
+        for layer in 0..COVERAGE_LAYERS {
+            let ids = coverage.ids.pixels.iter().map(|p| p[layer]).collect();
+            add_u32(format!("coverage.id{layer}"), ids)?;
+        }
+        for layer in 0..COVERAGE_LAYERS {
+            let fractions: Vec<f32> = coverage.fractions.pixels.iter().map(|p| p[layer]).collect();
+            if fractions.len() != pixel_count {
+                return Err(encode_error("coverage AOV has the wrong size".into()));
+            }
+            channels.push(AnyChannel::new(
+                format!("coverage.fraction{layer}").as_str(),
+                FlatSamples::F32(fractions),
+            ));
+        }
     }
     let layer = Layer::new(
         (image.width as usize, image.height as usize),

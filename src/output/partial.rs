@@ -210,6 +210,7 @@ pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<Scen
                 height,
                 pixels,
             }),
+            ..Aovs::default()
         },
         weight: Image {
             width,

@@ -4,6 +4,7 @@
 //! `Σ w·L / Σ w` over its own samples only (filter importance sampling: no splats into
 //! neighbours), so the result does not depend on the order tiles finish in.
 
+use super::ids::{self, Coverage, PixelCoverage};
 use super::tiles::Tile;
 use glam::Vec3;
 
@@ -48,12 +49,24 @@ pub struct AovSelection {
     pub normal: bool,
     /// Distance from the camera to the first hit in scene units (0 for misses).
     pub depth: bool,
+    /// glTF node index of the instance the pixel centre's ray hits ([`super::ids`]).
+    pub instance_id: bool,
+    /// Material index of the surface the pixel centre's ray hits ([`super::ids`]).
+    pub material_id: bool,
+    /// Up to [`ids::COVERAGE_LAYERS`] instance IDs per pixel with the fraction of its
+    /// samples each covers ([`super::ids`]).
+    pub coverage: bool,
 }
 
 impl AovSelection {
     /// Whether any AOV is selected.
     pub fn any(&self) -> bool {
-        self.albedo || self.normal || self.depth
+        self.albedo || self.normal || self.depth || self.any_ids()
+    }
+
+    /// Whether any of the ID AOVs ([`super::ids`]) is selected.
+    pub fn any_ids(&self) -> bool {
+        self.instance_id || self.material_id || self.coverage
     }
 }
 
@@ -70,6 +83,12 @@ pub struct Aovs {
     /// inside objects, 0 where only the environment is seen, fractional on edges). Always
     /// computed (one add per camera hit); EXR outputs carry it as their `A` channel.
     pub alpha: Option<Image<f32>>,
+    /// See [`AovSelection::instance_id`]; [`ids::NO_ID`] where the centre ray misses.
+    pub instance_id: Option<Image<u32>>,
+    /// See [`AovSelection::material_id`]; [`ids::NO_ID`] where the centre ray misses.
+    pub material_id: Option<Image<u32>>,
+    /// See [`AovSelection::coverage`].
+    pub coverage: Option<Coverage>,
 }
 
 /// Per-pixel sums of one tile's samples, in the tile's row-major order.
@@ -99,6 +118,13 @@ pub struct TileSums {
     pub depth: Vec<f32>,
     /// Σ w over samples whose camera ray hit the scene (coverage).
     pub alpha: Vec<f32>,
+    /// Centre-ray instance IDs: filled by the first pass only (empty otherwise, and when not
+    /// selected).
+    pub instance_id: Vec<u32>,
+    /// Centre-ray material IDs, as `instance_id`.
+    pub material_id: Vec<u32>,
+    /// Per-pixel sample counts per instance ID, if coverage is selected.
+    pub coverage: Vec<PixelCoverage>,
 }
 
 impl TileSums {
@@ -115,6 +141,9 @@ impl TileSums {
             normal: vec![Vec3::ZERO; sized(aovs.normal)],
             depth: vec![0.0; sized(aovs.depth)],
             alpha: vec![0.0; pixels],
+            instance_id: Vec::new(),
+            material_id: Vec::new(),
+            coverage: vec![PixelCoverage::new(); sized(aovs.coverage)],
         }
     }
 
@@ -149,6 +178,9 @@ pub struct Film {
     normal: Option<Image<Vec3>>,
     depth: Option<Image<f32>>,
     alpha: Image<f32>,
+    instance_id: Option<Image<u32>>,
+    material_id: Option<Image<u32>>,
+    coverage: Option<Vec<PixelCoverage>>,
 }
 
 /// Floor of the relative-error denominator, as a fraction of the image's mean luminance:
@@ -168,6 +200,15 @@ impl Film {
             normal: aovs.normal.then(zero3),
             depth: aovs.depth.then(|| Image::filled(width, height, 0.0)),
             alpha: Image::filled(width, height, 0.0),
+            instance_id: aovs
+                .instance_id
+                .then(|| Image::filled(width, height, ids::NO_ID)),
+            material_id: aovs
+                .material_id
+                .then(|| Image::filled(width, height, ids::NO_ID)),
+            coverage: aovs
+                .coverage
+                .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
         }
     }
 
@@ -202,6 +243,33 @@ impl Film {
             add(image, tile, &sums.depth);
         }
         add(&mut self.alpha, tile, &sums.alpha);
+        // IDs are set, not summed: only the pass that traced the centre rays has them.
+        fn set(image: &mut Image<u32>, tile: &Tile, src: &[u32]) {
+            let width = image.width as usize;
+            for (local, &value) in src.iter().enumerate().take(tile.pixel_count()) {
+                let (x, y) = tile.pixel(local);
+                if let Some(dst) = image.pixels.get_mut(y as usize * width + x as usize) {
+                    *dst = value;
+                }
+            }
+        }
+        if let Some(image) = &mut self.instance_id {
+            set(image, tile, &sums.instance_id);
+        }
+        if let Some(image) = &mut self.material_id {
+            set(image, tile, &sums.material_id);
+        }
+        if let Some(coverage) = &mut self.coverage {
+            let width = self.radiance_even.width as usize;
+            for (local, counts) in sums.coverage.iter().enumerate().take(tile.pixel_count()) {
+                let (x, y) = tile.pixel(local);
+                if let Some(dst) = coverage.get_mut(y as usize * width + x as usize) {
+                    for &(id, n) in counts {
+                        ids::count(dst, id, n);
+                    }
+                }
+            }
+        }
     }
 
     /// The unresolved sums: `Σ w·L` and the AOVs' `Σ w·value` per pixel, and `Σ w`. Partial
@@ -225,11 +293,13 @@ impl Film {
         };
         (
             radiance,
+            // Partial renders carry no ID AOVs (jobs refuse them): IDs are not sums.
             Aovs {
                 albedo: self.albedo,
                 normal: self.normal,
                 depth: self.depth,
                 alpha: Some(self.alpha),
+                ..Aovs::default()
             },
             weight,
         )
@@ -313,6 +383,7 @@ impl Film {
 
     /// Reconstruction: radiance and AOVs, each `Σ w·value / Σ w`.
     pub fn resolve(&self) -> (Image<Vec3>, Aovs) {
+        let (width, height) = self.size();
         let weight = |i: usize| self.total_weight(i);
         let scale3 = |image: &Image<Vec3>| Image {
             width: image.width,
@@ -341,6 +412,12 @@ impl Film {
                 normal: self.normal.as_ref().map(scale3),
                 depth: self.depth.as_ref().map(scale1),
                 alpha: Some(scale1(&self.alpha)),
+                instance_id: self.instance_id.clone(),
+                material_id: self.material_id.clone(),
+                coverage: self
+                    .coverage
+                    .as_ref()
+                    .map(|counts| ids::resolve(width, height, counts)),
             },
         )
     }

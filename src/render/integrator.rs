@@ -164,6 +164,9 @@ pub(crate) fn render_tile<
             let primary = depth == 0;
             let batch = RayBatch::new(tile, sample, depth);
             let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, batch, &mut counts);
+            if primary {
+                super::ids::record_coverage(ctx, &mut sums, &s.hits);
+            }
 
             s.points.clear();
             s.next_rays.clear();

@@ -393,6 +393,14 @@ impl Job {
                 self.settings.spp
             ));
         }
+        let partial = matches!(self.samples, Samples::Range(_) | Samples::Shard { .. });
+        if partial && self.settings.aovs.any_ids() {
+            return bad(
+                "--aov instance_id, material_id and coverage are whole-image results, not \
+                 sums that merge: render them without --sample-range/--shard"
+                    .into(),
+            );
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width and --height must be at least 1".into());
         }
@@ -412,7 +420,6 @@ impl Job {
         };
         let format = OutputFormat::from_path(&out.path)?;
         let path = out.path.display();
-        let partial = matches!(self.samples, Samples::Range(_) | Samples::Shard { .. });
         if format == OutputFormat::Png && self.settings.aovs.any() {
             return bad(format!(
                 "{path}: --aov needs an EXR output (AOVs are linear data); use -o NAME.exr"
@@ -543,7 +550,31 @@ pub fn run(
     progress: Option<Progress<'_>>,
     say: &dyn Fn(String),
 ) -> Result<JobOutput, JobError> {
-    run_in_scene(job, prepared, pool, progress, say).map_err(|e| e.in_scene(&prepared.label))
+    run_in_scene(job, prepared, pool, progress, say, None).map_err(|e| e.in_scene(&prepared.label))
+}
+
+/// [`run`], stoppable: setting `cancel` makes the render stop at the next tile and the job fail
+/// with [`RenderError::Cancelled`] (nothing is written). The Python package's Ctrl-C.
+pub fn run_cancellable(
+    job: &Job,
+    prepared: &PreparedScene,
+    pool: Option<&rayon::ThreadPool>,
+    progress: Option<Progress<'_>>,
+    say: &dyn Fn(String),
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<JobOutput, JobError> {
+    run_in_scene(job, prepared, pool, progress, say, Some(cancel))
+        .map_err(|e| e.in_scene(&prepared.label))
+}
+
+/// Resolved images of a job, for callers that keep them in memory (the Python package):
+/// what [`run_images`] returns besides the [`JobOutput`].
+#[derive(Clone, Debug)]
+pub struct JobImages {
+    /// Radiance, W/(m²·sr).
+    pub image: super::Image<Vec3>,
+    /// The selected AOVs.
+    pub aovs: super::Aovs,
 }
 
 fn run_in_scene(
@@ -552,7 +583,32 @@ fn run_in_scene(
     pool: Option<&rayon::ThreadPool>,
     progress: Option<Progress<'_>>,
     say: &dyn Fn(String),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<JobOutput, JobError> {
+    run_keeping(job, prepared, pool, progress, say, cancel).map(|(output, _)| output)
+}
+
+/// [`run_cancellable`] that also returns the resolved images (`None` for a partial job,
+/// whose output is sums, not an image).
+pub fn run_images(
+    job: &Job,
+    prepared: &PreparedScene,
+    pool: Option<&rayon::ThreadPool>,
+    progress: Option<Progress<'_>>,
+    say: &dyn Fn(String),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<(JobOutput, Option<JobImages>), JobError> {
+    run_keeping(job, prepared, pool, progress, say, cancel).map_err(|e| e.in_scene(&prepared.label))
+}
+
+fn run_keeping(
+    job: &Job,
+    prepared: &PreparedScene,
+    pool: Option<&rayon::ThreadPool>,
+    progress: Option<Progress<'_>>,
+    say: &dyn Fn(String),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<(JobOutput, Option<JobImages>), JobError> {
     job.check()?;
     let scene = &prepared.scene;
     let camera = job.camera(scene)?;
@@ -614,6 +670,7 @@ fn run_in_scene(
         mipmaps: Some(&prepared.mipmaps),
         environment: environment.as_deref(),
         area_lights: Some(&prepared.area_lights),
+        cancel,
     };
     let output = job.output.as_ref();
     if let Some(samples) = job.partial_samples()? {
@@ -629,14 +686,17 @@ fn run_in_scene(
             crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
-        return Ok(JobOutput {
-            output: output.map(|o| o.path.clone()),
-            width,
-            height,
-            samples,
-            stats,
-            note,
-        });
+        return Ok((
+            JobOutput {
+                output: output.map(|o| o.path.clone()),
+                width,
+                height,
+                samples,
+                stats,
+                note,
+            },
+            None,
+        ));
     }
     let (image, aovs, stats, samples, note) = match &job.samples {
         Samples::Progressive(rule) => {
@@ -672,14 +732,17 @@ fn run_in_scene(
             OutputFormat::Exr => write_exr(&out.path, &image, &aovs),
         }?;
     }
-    Ok(JobOutput {
-        output: output.map(|o| o.path.clone()),
-        width,
-        height,
-        samples,
-        stats,
-        note,
-    })
+    Ok((
+        JobOutput {
+            output: output.map(|o| o.path.clone()),
+            width,
+            height,
+            samples,
+            stats,
+            note,
+        },
+        Some(JobImages { image, aovs }),
+    ))
 }
 
 /// The aspect ratio (width / height) the camera fixes, if any.
@@ -760,8 +823,43 @@ mod tests {
         assert!(job("a.exr", &|j| j.output.as_mut().unwrap().png16 = true).is_err());
         assert!(job("a.png", &|j| j.settings.spp = 0).is_err());
         assert!(job("missing/a.png", &|_| {}).is_err());
+        // ID AOVs are not sums: a partial render cannot carry them.
+        let partial_ids = |j: &mut Job| {
+            j.settings.aovs.coverage = true;
+            j.samples = Samples::Shard { index: 0, count: 2 };
+        };
+        assert!(job("a.exr", &partial_ids).is_err());
+        assert!(job("a.exr", &|j| j.settings.aovs.instance_id = true).is_ok());
+        assert!(job("a.png", &|j| j.settings.aovs.material_id = true).is_err());
         let notes = job("a.exr", &|j| j.output.as_mut().unwrap().exposure_ev = 1.0).unwrap();
         assert_eq!(notes.len(), 1);
+    }
+
+    #[test]
+    fn a_cancelled_job_fails_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.exr");
+        let job = Job {
+            width: Some(8),
+            height: Some(6),
+            backend: BackendKind::Bvh,
+            output: Some(OutputSpec {
+                path: path.clone(),
+                ..OutputSpec::default()
+            }),
+            ..Job::default()
+        };
+        let prepared =
+            PreparedScene::load(&job.scene, &job.selection, &job.load_options, job.backend)
+                .unwrap();
+        let cancel = std::sync::atomic::AtomicBool::new(true);
+        let err = run_cancellable(&job, &prepared, None, None, &|_| {}, &cancel).unwrap_err();
+        assert!(err.to_string().contains("cancelled"), "{err}");
+        assert!(!path.exists());
+        // The same job, not cancelled, renders.
+        cancel.store(false, std::sync::atomic::Ordering::Relaxed);
+        assert!(run_cancellable(&job, &prepared, None, None, &|_| {}, &cancel).is_ok());
+        assert!(path.exists());
     }
 
     #[test]

@@ -13,6 +13,7 @@
 pub mod camera;
 pub mod film;
 pub mod filter;
+pub mod ids;
 pub(crate) mod integrator;
 pub mod job;
 pub mod kernel;
@@ -194,6 +195,9 @@ pub enum RenderError {
         /// Triangles in the scene.
         scene: usize,
     },
+    /// The caller asked the render to stop ([`RenderInputs::cancel`]); no image was made.
+    #[error("the render was cancelled")]
+    Cancelled,
     /// The worker threads could not be started.
     #[error("could not start {threads} render threads: {reason}")]
     Threads {
@@ -257,6 +261,10 @@ pub struct RenderInputs<'a> {
     /// The scene's emissive triangles from [`build_area_lights`], built once at load; `None`
     /// builds them for this render.
     pub area_lights: Option<&'a crate::light::area::AreaLights>,
+    /// Set by the caller to stop the render: checked before each tile and between passes
+    /// (tiles already started finish), after which the render fails with
+    /// [`RenderError::Cancelled`]. `None`: not cancellable.
+    pub cancel: Option<&'a std::sync::atomic::AtomicBool>,
 }
 
 /// Emissive-triangle counts from which lights are chosen by the light BVH rather than by
@@ -351,6 +359,7 @@ impl<'a> RenderInputs<'a> {
             mipmaps: None,
             environment: None,
             area_lights: None,
+            cancel: None,
         }
     }
 }
@@ -374,6 +383,9 @@ pub fn render_film(
     }
     let mut renderer = TileScheduler::with_inputs(inputs, settings)?;
     renderer.render_samples(samples, progress);
+    if renderer.cancelled() {
+        return Err(RenderError::Cancelled);
+    }
     Ok(renderer.into_film())
 }
 

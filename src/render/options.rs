@@ -23,6 +23,14 @@ pub enum AovName {
     Normal,
     /// Distance to the first hit.
     Depth,
+    /// glTF node index of the instance at the pixel centre (uint32).
+    #[value(name = "instance_id", alias = "instance-id")]
+    InstanceId,
+    /// Material index at the pixel centre (uint32).
+    #[value(name = "material_id", alias = "material-id")]
+    MaterialId,
+    /// Up to 4 instance IDs per pixel with the fraction of its samples each covers.
+    Coverage,
 }
 
 /// Arguments of `glint render`.
@@ -80,7 +88,11 @@ pub struct RenderArgs {
     #[arg(long)]
     pub photometric: bool,
     /// Auxiliary images to add to an EXR output (comma-separated).
-    #[arg(long, value_delimiter = ',', value_name = "albedo,normal,depth")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "albedo,normal,depth,instance_id,material_id,coverage"
+    )]
     pub aov: Vec<AovName>,
     /// Texture filter, overriding the glTF samplers (for experiments): nearest, bilinear and
     /// bicubic read the full-resolution image only; trilinear and anisotropic use MIP maps and
@@ -299,5 +311,8 @@ fn aov_selection(names: &[AovName]) -> AovSelection {
         albedo: names.contains(&AovName::Albedo),
         normal: names.contains(&AovName::Normal),
         depth: names.contains(&AovName::Depth),
+        instance_id: names.contains(&AovName::InstanceId),
+        material_id: names.contains(&AovName::MaterialId),
+        coverage: names.contains(&AovName::Coverage),
     }
 }

@@ -236,6 +236,7 @@ pub fn merge(parts: &[PartialImage]) -> Result<(Image<Vec3>, Aovs), MergeError> 
             normal,
             depth,
             alpha,
+            ..Aovs::default()
         },
     ))
 }

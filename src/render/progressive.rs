@@ -125,6 +125,9 @@ pub fn render_progressive_with(
     let mut next = 2;
     let reason = loop {
         renderer.render_pass(next, progress);
+        if renderer.cancelled() {
+            return Err(RenderError::Cancelled);
+        }
         passes += 1;
         let spp = renderer.samples_per_pixel();
         // Samples the error target still asks for, from error ∝ spp^−½ (plain Monte Carlo;

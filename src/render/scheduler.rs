@@ -4,8 +4,9 @@
 //! the film in tile order, so the image does not depend on which worker finished first.
 //! [`super::render_film`] runs one pass; [`super::progressive`] runs many.
 
-use super::film::Film;
+use super::film::{Film, TileSums};
 use super::filter::FilterSampler;
+use super::ids;
 use super::integrator::{Pass, Scratch, TileContext};
 use super::kernel::{self, KernelFlags, TileFn};
 use super::stats::{RayCounts, RenderStats};
@@ -21,7 +22,7 @@ use crate::scene::{Camera, Scene, SceneFeatures};
 use crate::texture::MipMap;
 use rayon::prelude::*;
 use std::borrow::Cow;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 /// Renders passes of samples tile by tile on a thread pool and accumulates them in one film.
@@ -39,6 +40,10 @@ pub struct TileScheduler<'a> {
     flags: KernelFlags,
     texture_bytes: u64,
     texture_texels: u64,
+    /// The caller's stop flag ([`RenderInputs::cancel`]).
+    cancel: Option<&'a AtomicBool>,
+    /// Whether the centre-ray ID AOVs still have to be traced (by the next pass).
+    ids_pending: bool,
 }
 
 /// The pool a render runs on: its own, or one shared by concurrent renders (`glint batch`).
@@ -83,6 +88,7 @@ impl<'a> TileScheduler<'a> {
             mipmaps,
             environment,
             area_lights,
+            cancel,
         } = *inputs;
         validate(settings)?;
         settings.filter.validate().map_err(RenderError::Settings)?;
@@ -177,6 +183,8 @@ impl<'a> TileScheduler<'a> {
             flags,
             texture_bytes,
             texture_texels,
+            cancel,
+            ids_pending: settings.aovs.instance_id || settings.aovs.material_id,
         })
     }
 
@@ -213,14 +221,26 @@ impl<'a> TileScheduler<'a> {
             first_sample: self.next_sample,
             spp,
         };
+        if self.cancelled() {
+            return;
+        }
         let (ctx, render_tile, tiles) = (&self.ctx, self.render_tile, &self.tiles);
+        let (cancel, trace_ids) = (self.cancel, self.ids_pending);
         let done = AtomicUsize::new(0);
         let start = Instant::now();
         let results: Vec<_> = self.pool.get().install(|| {
             tiles
                 .par_iter()
                 .map_init(Scratch::default, |scratch, tile| {
-                    let result = render_tile(ctx, pass, tile, scratch);
+                    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                        // The render is abandoned: its film is never returned.
+                        return (TileSums::default(), RayCounts::default());
+                    }
+                    let mut result = render_tile(ctx, pass, tile, scratch);
+                    if trace_ids {
+                        let (sums, counts) = &mut result;
+                        ids::trace_centre_ids(ctx, ctx.aovs, tile, sums, counts);
+                    }
                     let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
                     if let Some(report) = progress {
                         report(finished, tiles.len());
@@ -237,6 +257,12 @@ impl<'a> TileScheduler<'a> {
         }
         self.elapsed += start.elapsed();
         self.next_sample = self.next_sample.saturating_add(spp);
+        self.ids_pending = false;
+    }
+
+    /// Whether the caller has asked the render to stop ([`RenderInputs::cancel`]).
+    pub fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
     }
 
     /// Samples per pixel rendered so far.

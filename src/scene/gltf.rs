@@ -317,6 +317,7 @@ fn load_bytes(
                         skin: joints.as_deref(),
                     };
                     if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
+                        built.node = u32::try_from(node.node.index()).ok();
                         normal_texture::ensure_tangents(
                             &mut built,
                             &materials,

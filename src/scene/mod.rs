@@ -52,6 +52,10 @@ pub struct Mesh {
     pub colors: Option<Vec<Vec4>>,
     /// Index into `Scene::materials`.
     pub material: usize,
+    /// Index of the glTF node that instances it, for the `instance_id` AOV; `None` for
+    /// meshes made in code. Every copy of an EXT_mesh_gpu_instancing node and every
+    /// primitive of the node's mesh carry the node's index.
+    pub node: Option<u32>,
 }
 
 /// A surface material, from glTF's metallic-roughness model. See the README for how it maps

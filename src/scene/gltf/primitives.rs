@@ -277,6 +277,8 @@ pub fn build(
         texcoords,
         colors,
         material: ctx.material,
+        // The caller knows the node.
+        node: None,
     }))
 }
 

@@ -1,0 +1,284 @@
+//! A render's keyword arguments, as `Scene.render` and the jobs of `glint.render_batch` take
+//! them, turned into a library [`Job`]. Defaults are `glint render`'s, so a render from Python
+//! and the same render from the command line are the same job (and the same pixels).
+
+use glam::Vec3;
+use glint::render::job::{
+    CameraChoice, EnvironmentSource, LightSource, OutputSpec, Samples, SceneSource,
+};
+use glint::render::{
+    AovSelection, FilterSpec, Integrator, Job, PixelSampling, RenderSettings, StopRule,
+    progressive::DEFAULT_MAX_SPP,
+};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// The AOV names `aovs=` accepts, as the command line's `--aov` spells them.
+pub const AOV_NAMES: [&str; 6] = [
+    "albedo",
+    "normal",
+    "depth",
+    "instance_id",
+    "material_id",
+    "coverage",
+];
+
+/// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
+pub const RENDER_KEYS: [&str; 22] = [
+    "width",
+    "height",
+    "spp",
+    "camera",
+    "lights",
+    "lights_file",
+    "photometric",
+    "env",
+    "env_strength",
+    "env_rotation",
+    "env_hidden",
+    "seed",
+    "integrator",
+    "max_depth",
+    "aovs",
+    "threads",
+    "filter",
+    "sampler",
+    "time_budget",
+    "target_error",
+    "max_spp",
+    "output",
+];
+
+/// Reads one keyword argument, `None` when absent or `None`.
+fn get<'py, T>(kwargs: Option<&Bound<'py, PyDict>>, key: &str) -> PyResult<Option<T>>
+where
+    T: for<'a> FromPyObject<'a, 'py>,
+{
+    let Some(kwargs) = kwargs else {
+        return Ok(None);
+    };
+    match kwargs.get_item(key)? {
+        Some(value) if !value.is_none() => value.extract::<T>().map(Some).map_err(|e| {
+            let err: PyErr = e.into();
+            PyTypeError::new_err(format!("{key}: {err}"))
+        }),
+        _ => Ok(None),
+    }
+}
+
+/// `name` parsed by `parse`, as a `ValueError` naming the argument on failure.
+fn parsed<T, E: std::fmt::Display>(
+    key: &str,
+    text: &str,
+    parse: impl Fn(&str) -> Result<T, E>,
+) -> PyResult<T> {
+    parse(text).map_err(|e| PyValueError::new_err(format!("{key}={text:?}: {e}")))
+}
+
+/// The job the keyword arguments describe, for the scene `source` (used for messages and
+/// the output's default; the render itself uses the prepared scene). Unknown keys are a
+/// `TypeError`, as for a Python function; `allowed_extra` names keys the caller handles.
+pub fn job_from_kwargs(
+    kwargs: Option<&Bound<'_, PyDict>>,
+    source: SceneSource,
+    backend: glint::accel::BackendKind,
+    allowed_extra: &[&str],
+) -> PyResult<Job> {
+    if let Some(kwargs) = kwargs {
+        for key in kwargs.keys() {
+            let key: String = key.extract()?;
+            if !RENDER_KEYS.contains(&key.as_str()) && !allowed_extra.contains(&key.as_str()) {
+                return Err(PyTypeError::new_err(format!(
+                    "render() got an unexpected keyword argument '{key}'; the arguments are: {}",
+                    RENDER_KEYS.join(", ")
+                )));
+            }
+        }
+    }
+    let defaults = RenderSettings::default();
+    let integrator = match get::<String>(kwargs, "integrator")? {
+        Some(name) => parsed("integrator", &name, |s| match s {
+            "path" => Ok(Integrator::Path),
+            "direct" => Ok(Integrator::Direct),
+            _ => Err("use \"path\" or \"direct\""),
+        })?,
+        // As `glint render`.
+        None => Integrator::Path,
+    };
+    let filter = match get::<String>(kwargs, "filter")? {
+        Some(text) => parsed("filter", &text, str::parse::<FilterSpec>)?,
+        None => parsed("filter", "box", str::parse::<FilterSpec>)?,
+    };
+    let sampling = match get::<String>(kwargs, "sampler")? {
+        Some(text) => parsed("sampler", &text, str::parse::<PixelSampling>)?,
+        None => PixelSampling::Sobol,
+    };
+    let aovs = aov_selection(&get::<Vec<String>>(kwargs, "aovs")?.unwrap_or_default())?;
+    let mut lights: Vec<LightSource> = get::<Vec<String>>(kwargs, "lights")?
+        .unwrap_or_default()
+        .into_iter()
+        .map(LightSource::Spec)
+        .collect();
+    lights.extend(get::<PathBuf>(kwargs, "lights_file")?.map(LightSource::File));
+    let environment = environment(kwargs)?;
+    let time_budget = get::<f64>(kwargs, "time_budget")?;
+    let target_error = get::<f64>(kwargs, "target_error")?;
+    let samples = if time_budget.is_some() || target_error.is_some() {
+        let time_budget = match time_budget {
+            Some(t) if t > 0.0 && t.is_finite() && t < 1e9 => Some(Duration::from_secs_f64(t)),
+            Some(t) => {
+                return Err(PyValueError::new_err(format!(
+                    "time_budget={t}: give a positive number of seconds"
+                )));
+            }
+            None => None,
+        };
+        Samples::Progressive(StopRule {
+            time_budget,
+            target_error,
+            max_spp: get(kwargs, "max_spp")?.unwrap_or(DEFAULT_MAX_SPP),
+        })
+    } else {
+        Samples::All
+    };
+    Ok(Job {
+        scene: source,
+        backend,
+        camera: camera(kwargs)?,
+        lights,
+        environment,
+        light_units: if get::<bool>(kwargs, "photometric")?.unwrap_or(false) {
+            glint::light::LightUnits::Photometric
+        } else {
+            glint::light::LightUnits::Radiometric
+        },
+        width: get(kwargs, "width")?,
+        height: get(kwargs, "height")?,
+        settings: RenderSettings {
+            spp: get(kwargs, "spp")?.unwrap_or(16),
+            seed: get(kwargs, "seed")?.unwrap_or(0),
+            max_depth: get(kwargs, "max_depth")?.unwrap_or(8),
+            threads: get(kwargs, "threads")?.unwrap_or(0),
+            aovs,
+            filter,
+            sampling,
+            integrator,
+            environment_visible: !get::<bool>(kwargs, "env_hidden")?.unwrap_or(false),
+            ..defaults
+        },
+        samples,
+        output: get::<PathBuf>(kwargs, "output")?.map(|path| OutputSpec {
+            path,
+            ..OutputSpec::default()
+        }),
+        ..Job::default()
+    })
+}
+
+/// `aovs=[...]` as an [`AovSelection`].
+fn aov_selection(names: &[String]) -> PyResult<AovSelection> {
+    let mut aovs = AovSelection::default();
+    for name in names {
+        let flag = match name.as_str() {
+            "albedo" => &mut aovs.albedo,
+            "normal" => &mut aovs.normal,
+            "depth" => &mut aovs.depth,
+            "instance_id" => &mut aovs.instance_id,
+            "material_id" => &mut aovs.material_id,
+            "coverage" => &mut aovs.coverage,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "aovs: unknown AOV {other:?}; the AOVs are {}",
+                    AOV_NAMES.join(", ")
+                )));
+            }
+        };
+        *flag = true;
+    }
+    Ok(aovs)
+}
+
+/// `camera=`: `None` (the scene's first), an index, or a dict placing a perspective camera.
+fn camera(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<CameraChoice> {
+    let Some(value) = kwargs.map(|k| k.get_item("camera")).transpose()?.flatten() else {
+        return Ok(CameraChoice::First);
+    };
+    if value.is_none() {
+        return Ok(CameraChoice::First);
+    }
+    if let Ok(index) = value.extract::<usize>() {
+        return Ok(CameraChoice::Index(index));
+    }
+    let Ok(dict) = value.cast::<PyDict>() else {
+        return Err(PyTypeError::new_err(
+            "camera: give an index into scene.cameras, or a dict with position, target and \
+             optionally up and yfov_degrees",
+        ));
+    };
+    let vec3 = |key: &str| -> PyResult<Option<Vec3>> {
+        Ok(get::<[f32; 3]>(Some(dict), key)?.map(Vec3::from))
+    };
+    let (Some(position), Some(target)) = (vec3("position")?, vec3("target")?) else {
+        return Err(PyValueError::new_err(
+            "camera: a camera dict needs 'position' and 'target' (3 numbers each)",
+        ));
+    };
+    for key in dict.keys() {
+        let key: String = key.extract()?;
+        if !["position", "target", "up", "yfov_degrees", "name"].contains(&key.as_str()) {
+            return Err(PyValueError::new_err(format!(
+                "camera: unknown key '{key}'; use position, target, up, yfov_degrees, name"
+            )));
+        }
+    }
+    let yfov = get::<f32>(Some(dict), "yfov_degrees")?;
+    if let Some(y) = yfov
+        && !(y > 0.0 && y < 180.0)
+    {
+        return Err(PyValueError::new_err(format!(
+            "camera: yfov_degrees={y} must be between 0 and 180"
+        )));
+    }
+    Ok(CameraChoice::LookAt {
+        name: get::<String>(Some(dict), "name")?.unwrap_or_else(|| "look-at".into()),
+        position,
+        target,
+        up: vec3("up")?.unwrap_or(Vec3::Y),
+        yfov: yfov.map(f32::to_radians),
+    })
+}
+
+/// `env=`: a path to an equirectangular `.hdr`/`.exr`, or a uniform radiance `(r, g, b)`.
+fn environment(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Option<EnvironmentSource>> {
+    let Some(value) = kwargs.map(|k| k.get_item("env")).transpose()?.flatten() else {
+        return Ok(None);
+    };
+    if value.is_none() {
+        return Ok(None);
+    }
+    let strength = get::<f32>(kwargs, "env_strength")?.unwrap_or(1.0);
+    let rotation = get::<f32>(kwargs, "env_rotation")?.unwrap_or(0.0);
+    if !(strength.is_finite() && strength >= 0.0 && rotation.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "env_strength={strength} / env_rotation={rotation}: give finite numbers (strength ≥ 0)"
+        )));
+    }
+    if value.is_instance_of::<PyString>() || value.hasattr("__fspath__")? {
+        return Ok(Some(EnvironmentSource::File {
+            path: value.extract::<PathBuf>()?,
+            strength,
+            rotation_deg: rotation,
+        }));
+    }
+    match value.extract::<[f32; 3]>() {
+        Ok(rgb) if rgb.iter().all(|c| c.is_finite() && *c >= 0.0) => {
+            Ok(Some(EnvironmentSource::Constant(Vec3::from(rgb))))
+        }
+        _ => Err(PyValueError::new_err(
+            "env: give a path to an .hdr/.exr image or three non-negative numbers (r, g, b)",
+        )),
+    }
+}

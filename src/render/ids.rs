@@ -1,0 +1,196 @@
+//! Exact ID images: which object and material each pixel shows, and which objects cover it
+//! in what proportion.
+//!
+//! - `instance_id` and `material_id` ([`AovSelection::instance_id`],
+//!   [`AovSelection::material_id`]): what the ray through the pixel's *centre* hits, traced
+//!   once per render apart from the samples (so the radiance is untouched and the ID is a
+//!   point sample, not an average of IDs, which would be meaningless). The instance ID is the
+//!   glTF node index of the mesh instance ([`crate::scene::Mesh::node`]; the mesh's index for
+//!   meshes made in code), the material ID the index into [`crate::scene::Scene::materials`]
+//!   (the glTF material index; glint's default material, for primitives without one, comes
+//!   after the file's). Pixels whose centre ray misses hold [`NO_ID`].
+//! - `coverage` ([`AovSelection::coverage`]): for each pixel, the instance IDs of up to
+//!   [`COVERAGE_LAYERS`] objects that the pixel's camera samples hit first, with the
+//!   fraction of the pixel's samples that hit each: exact counts over every sample rendered
+//!   (cryptomatte's idea without its hashes and without its fitted weights). The fractions
+//!   count samples, each once: samples land where the pixel filter puts them (for the default
+//!   box filter, uniformly over the pixel), and a filter's negative lobes do not enter. Objects
+//!   are listed by decreasing count, ties by increasing ID; unused layers hold [`NO_ID`] and
+//!   0. Samples that miss every object are counted as background, which is not listed: the
+//!   listed fractions plus the background's sum to 1 when no more than
+//!   [`COVERAGE_LAYERS`] objects cover the pixel.
+//!
+//! Both are integers summed per tile and added to the film in tile order, so they are the
+//! same for any thread count. Neither costs anything when not selected: the centre rays are
+//! not traced and the kernels' only addition is one emptiness check per batch of camera rays.
+
+use super::film::{AovSelection, Image, TileSums};
+use super::integrator::TileContext;
+use super::stats::RayCounts;
+use super::tiles::Tile;
+use crate::accel::{Coherence, Hit, Ray};
+use crate::scene::Scene;
+
+/// The ID of "nothing": a pixel whose centre ray leaves the scene, an unused coverage layer.
+pub const NO_ID: u32 = u32::MAX;
+
+/// How many objects the coverage AOV lists per pixel (K).
+pub const COVERAGE_LAYERS: usize = 4;
+
+/// One pixel's sample counts per instance ID (background as [`NO_ID`]), in order of first
+/// appearance. A handful of entries in practice, so a linear search beats a map.
+pub type PixelCoverage = Vec<(u32, u32)>;
+
+/// The coverage AOV of a whole image: per pixel, up to [`COVERAGE_LAYERS`] instance IDs and
+/// the fraction of the pixel's samples that hit each (see the module documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coverage {
+    /// Instance IDs by decreasing coverage; [`NO_ID`] in unused layers.
+    pub ids: Image<[u32; COVERAGE_LAYERS]>,
+    /// The fraction of the pixel's samples whose camera ray hit the object first, in
+    /// `[0, 1]`; 0 in unused layers.
+    pub fractions: Image<[f32; COVERAGE_LAYERS]>,
+}
+
+/// The instance ID of mesh `geom_id` (its glTF node, else its index).
+#[inline]
+pub fn instance_id(scene: &Scene, geom_id: u32) -> u32 {
+    scene
+        .meshes
+        .get(geom_id as usize)
+        .and_then(|m| m.node)
+        .unwrap_or(geom_id)
+}
+
+/// The material ID of mesh `geom_id`.
+#[inline]
+fn material_id(scene: &Scene, geom_id: u32) -> u32 {
+    scene
+        .meshes
+        .get(geom_id as usize)
+        .and_then(|m| u32::try_from(m.material).ok())
+        .unwrap_or(NO_ID)
+}
+
+/// Adds one sample to a pixel's counts.
+#[inline]
+pub fn count(pixel: &mut PixelCoverage, id: u32, n: u32) {
+    match pixel.iter_mut().find(|(known, _)| *known == id) {
+        Some((_, c)) => *c = c.saturating_add(n),
+        None => pixel.push((id, n)),
+    }
+}
+
+/// Records the first hits of one batch of camera rays, `hits[i]` being tile pixel `i`'s, in
+/// the coverage counts (nothing unless the coverage AOV is selected).
+#[inline]
+pub(super) fn record_coverage(ctx: &TileContext<'_>, sums: &mut TileSums, hits: &[Option<Hit>]) {
+    if sums.coverage.is_empty() {
+        return;
+    }
+    for (pixel, hit) in sums.coverage.iter_mut().zip(hits) {
+        let id = hit.map_or(NO_ID, |h| instance_id(ctx.scene, h.geom_id));
+        count(pixel, id, 1);
+    }
+}
+
+/// Traces the ray through the centre of each of `tile`'s pixels and stores what it hits in
+/// `sums.instance_id` / `sums.material_id` (those selected), counting the rays as camera rays.
+pub(super) fn trace_centre_ids(
+    ctx: &TileContext<'_>,
+    aovs: AovSelection,
+    tile: &Tile,
+    sums: &mut TileSums,
+    counts: &mut RayCounts,
+) {
+    if !(aovs.instance_id || aovs.material_id) {
+        return;
+    }
+    let rays: Vec<Ray> = (0..tile.pixel_count())
+        .map(|local| {
+            let (x, y) = tile.pixel(local);
+            ctx.camera.ray(x as f32 + 0.5, y as f32 + 0.5)
+        })
+        .collect();
+    let mut hits = vec![None; rays.len()];
+    ctx.accel
+        .intersect_many(&rays, &mut hits, Coherence::Coherent);
+    counts.camera += rays.len() as u64;
+    let ids = |f: fn(&Scene, u32) -> u32| -> Vec<u32> {
+        hits.iter()
+            .map(|h| h.map_or(NO_ID, |h| f(ctx.scene, h.geom_id)))
+            .collect()
+    };
+    if aovs.instance_id {
+        sums.instance_id = ids(instance_id);
+    }
+    if aovs.material_id {
+        sums.material_id = ids(material_id);
+    }
+}
+
+/// The coverage layers of one pixel from its counts: objects by decreasing count (ties by
+/// increasing ID), background left out, fractions of the pixel's total count.
+pub fn resolve_pixel(counts: &PixelCoverage) -> ([u32; COVERAGE_LAYERS], [f32; COVERAGE_LAYERS]) {
+    let total: u64 = counts.iter().map(|&(_, c)| u64::from(c)).sum();
+    let mut objects: Vec<(u32, u32)> = counts
+        .iter()
+        .copied()
+        .filter(|&(id, _)| id != NO_ID)
+        .collect();
+    objects.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    let mut ids = [NO_ID; COVERAGE_LAYERS];
+    let mut fractions = [0.0; COVERAGE_LAYERS];
+    for (slot, &(id, c)) in objects.iter().take(COVERAGE_LAYERS).enumerate() {
+        ids[slot] = id;
+        // In f64 so that the fraction is the correctly rounded count ratio.
+        fractions[slot] = (f64::from(c) / total.max(1) as f64) as f32;
+    }
+    (ids, fractions)
+}
+
+/// The coverage AOV of a `width × height` image from its per-pixel counts (row-major).
+pub fn resolve(width: u32, height: u32, counts: &[PixelCoverage]) -> Coverage {
+    let (ids, fractions): (Vec<_>, Vec<_>) = counts.iter().map(resolve_pixel).unzip();
+    Coverage {
+        ids: Image {
+            width,
+            height,
+            pixels: ids,
+        },
+        fractions: Image {
+            width,
+            height,
+            pixels: fractions,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn layers_sort_by_count_then_id_and_leave_out_the_background() {
+        let mut pixel = PixelCoverage::new();
+        for (id, n) in [(7, 3), (NO_ID, 4), (2, 3), (9, 1), (5, 2), (1, 1), (7, 2)] {
+            count(&mut pixel, id, n);
+        }
+        // 7: 5, 2: 3, 5: 2, then 1 and 9 tie at 1 (1 first); background 4 of 16.
+        let (ids, fractions) = resolve_pixel(&pixel);
+        assert_eq!(ids, [7, 2, 5, 1]);
+        assert_eq!(fractions, [5.0 / 16.0, 3.0 / 16.0, 2.0 / 16.0, 1.0 / 16.0]);
+    }
+
+    #[test]
+    fn unused_layers_hold_no_id() {
+        let (ids, fractions) = resolve_pixel(&vec![(NO_ID, 8)]);
+        assert_eq!(ids, [NO_ID; COVERAGE_LAYERS]);
+        assert_eq!(fractions, [0.0; COVERAGE_LAYERS]);
+        let (ids, fractions) = resolve_pixel(&vec![(3, 1), (NO_ID, 1)]);
+        assert_eq!(ids, [3, NO_ID, NO_ID, NO_ID]);
+        assert_eq!(fractions, [0.5, 0.0, 0.0, 0.0]);
+        // A pixel with no samples at all (cannot happen in a render) is empty, not NaN.
+        assert_eq!(resolve_pixel(&Vec::new()).1, [0.0; COVERAGE_LAYERS]);
+    }
+}
