@@ -11,7 +11,7 @@ seconds="${1:?usage: scripts/fuzz.sh SECONDS [RNG_SEED]}"
 seed="${2:-$(date +%s)}"
 crash_dir=fuzz-crashes
 cargo build --release --locked --example fuzz_loader || exit 2
-bin=target/release/examples/fuzz_loader
+bin="${CARGO_TARGET_DIR:-target}/release/examples/fuzz_loader"
 mkdir -p "$crash_dir"
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
