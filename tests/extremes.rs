@@ -401,14 +401,25 @@ fn camera_inside_geometry() {
             let out = render_with(&scene, &camera, backend, &settings());
             assert!(all_finite(&out), "{backend}: non-finite output");
             let lit = out.image.pixels.iter().any(|p| *p != Vec3::ZERO);
-            // Inside, the camera sees back faces: black unless double-sided, and then lit by
-            // the inside light only (the cube shadows the directional light).
+            // Inside, the camera sees back faces. Single-sided ones are culled for camera
+            // rays (glTF), so it sees what lies behind them: nothing here, black and with
+            // coverage 0. Double-sided ones are lit by the inside light only (the cube
+            // shadows the directional light).
             assert_eq!(lit, double_sided, "{backend}, double-sided {double_sided}");
             let depth = out.aovs.depth.as_ref().unwrap();
-            assert!(
-                depth.pixels.iter().all(|&d| d > 0.0 && d < 4.0),
-                "every ray hits a wall"
-            );
+            let alpha = out.aovs.alpha.as_ref().unwrap();
+            if double_sided {
+                assert!(
+                    depth.pixels.iter().all(|&d| d > 0.0 && d < 4.0),
+                    "every ray hits a wall"
+                );
+                assert!(alpha.pixels.iter().all(|&a| a == 1.0), "full coverage");
+            } else {
+                assert!(
+                    alpha.pixels.iter().all(|&a| a == 0.0),
+                    "{backend}: a culled back face covered a pixel"
+                );
+            }
         }
     }
 }
