@@ -108,7 +108,9 @@ class Scene:
     ) -> Dict[str, npt.NDArray[np.generic]]:
         """Renders the scene; the arguments and defaults are ``glint render``'s.
 
-        Returns a dict: ``radiance`` (float32 H×W×3, W/(m²·sr)) and, per AOV asked for,
+        Returns a dict: ``radiance`` (float32 H×W×3, W/(m²·sr)), ``alpha`` (float32 H×W, the
+        fraction of the pixel's camera samples that hit the scene: the EXR's ``A``) and, per
+        AOV asked for,
         ``albedo``/``normal`` (float32 H×W×3), ``depth`` (float32 H×W), ``instance_id`` and
         ``material_id`` (uint32 H×W), ``coverage_ids`` (uint32 H×W×K) with ``coverage``
         (float32 H×W×K). ``output`` also writes the image (.png or .exr, with the AOVs).

@@ -3,6 +3,7 @@
 //! | key | dtype | shape |
 //! |---|---|---|
 //! | `radiance` | float32 | H×W×3, W/(m²·sr) |
+//! | `alpha` | float32 | H×W, coverage: the fraction of camera samples that hit the scene |
 //! | `albedo`, `normal` | float32 | H×W×3 |
 //! | `depth` | float32 | H×W |
 //! | `instance_id`, `material_id` | uint32 | H×W (`NO_ID` where nothing is hit) |
@@ -44,6 +45,9 @@ pub fn images_to_dict<'py>(py: Python<'py>, images: &JobImages) -> PyResult<Boun
     let rgb = |v: Vec3| v.to_array();
     dict.set_item("radiance", planes(py, &images.image, rgb)?)?;
     let aovs = &images.aovs;
+    if let Some(alpha) = &aovs.alpha {
+        dict.set_item("alpha", plane(py, alpha)?)?;
+    }
     if let Some(albedo) = &aovs.albedo {
         dict.set_item("albedo", planes(py, albedo, rgb)?)?;
     }

@@ -51,6 +51,7 @@ def test_render_equals_the_cli_exr_bit_for_bit(glint_bin, tmp_path, integrator):
     rgb = np.stack([cli["R"], cli["G"], cli["B"]], axis=-1)
     assert rgb.dtype == np.float32
     assert np.array_equal(bits(img["radiance"]), bits(rgb))
+    assert np.array_equal(bits(img["alpha"]), bits(cli["A"]))
     assert np.array_equal(bits(img["albedo"]),
                           bits(np.stack([cli[f"albedo.{c}"] for c in "RGB"], axis=-1)))
     assert np.array_equal(bits(img["normal"]),
@@ -84,6 +85,7 @@ def test_aov_shapes_and_dtypes():
     k = glint.COVERAGE_LAYERS
     expected = {
         "radiance": ((17, 33, 3), np.float32),
+        "alpha": ((17, 33), np.float32),
         "albedo": ((17, 33, 3), np.float32),
         "normal": ((17, 33, 3), np.float32),
         "depth": ((17, 33), np.float32),
@@ -97,8 +99,8 @@ def test_aov_shapes_and_dtypes():
         assert img[name].shape == shape, name
         assert img[name].dtype == dtype, name
     assert set(glint.AOVS) == set(ALL_AOVS)
-    # Without AOVs: radiance alone.
-    assert set(glint.load().render(width=8, height=4, spp=1)) == {"radiance"}
+    # Without AOVs: radiance and its coverage alone.
+    assert set(glint.load().render(width=8, height=4, spp=1)) == {"radiance", "alpha"}
 
 
 def test_aovs_do_not_change_the_radiance():
