@@ -5,12 +5,19 @@
 //! cargo run --example make_demo
 //! ```
 //!
-//! The scene (metres, +Y up): a checker-textured floor, a red and a green box and a blue
-//! sphere (diffuse), a mirror sphere (metallic 1, roughness 0), a small warm emissive panel
-//! (KHR_materials_emissive_strength), a camera node, and one light of each
-//! KHR_lights_punctual type. Intensities are radiometric and chosen so that lit diffuse
-//! surfaces have radiances of about 0.1–1 W/(m²·sr): a point light of I W/sr at distance d
-//! gives a surface of albedo ρ facing it the radiance ρ/π · I/d².
+//! It also writes `scenes/demo-env.hdr`, the environment `scripts/demo.sh` renders the demo
+//! under: `../shared/env/studio.hdr` (CC0) averaged down to 256×128 (skipped, keeping the
+//! committed file, where that source is absent).
+//!
+//! The scene (metres, +Y up) shows what glint renders: a checker-textured floor; two rows of
+//! metal-rough spheres (gold with metallic 1 in front, red dielectric behind on a plinth, each
+//! at roughness 0 … 0.9; roughness 0 is the mirror); a tiled wall whose tiles are only a
+//! normal map (MikkTSpace tangents are generated at load); a perforated screen cut by an
+//! alpha MASK; a warm emissive panel (KHR_materials_emissive_strength) lighting its
+//! surroundings; a camera node; and one light of each KHR_lights_punctual type. All textures
+//! are generated here. Intensities are radiometric and chosen so that lit diffuse surfaces
+//! have radiances of about 0.1–1 W/(m²·sr): a point light of I W/sr at distance d gives a
+//! surface of albedo ρ facing it the radiance ρ/π · I/d².
 
 use glam::{Quat, Vec2, Vec3};
 use gltf::json;
@@ -19,6 +26,23 @@ use std::path::Path;
 
 /// Where the scene is written, relative to the crate root.
 const OUTPUT: &str = "scenes/demo.glb";
+
+/// The demo's environment map (written next to the scene; `scripts/demo.sh` passes it as
+/// `--env`) and the CC0 original it is downscaled from.
+const ENV_OUTPUT: &str = "scenes/demo-env.hdr";
+const ENV_SOURCE: &str = "../shared/env/studio.hdr";
+
+/// The sphere rows: roughness of each column, radius and centre spacing in metres.
+const SPHERE_ROUGHNESS: [f32; 5] = [0.0, 0.2, 0.4, 0.6, 0.9];
+const SPHERE_RADIUS_M: f32 = 0.3;
+const SPHERE_SPACING_M: f32 = 0.8;
+/// Height of the plinth that raises the back row of spheres.
+const PLINTH_HEIGHT_M: f32 = 0.35;
+
+/// Tiles of the normal-mapped wall: texture repeats per metre (4 tiles per repeat).
+const TILES_PER_METRE: f32 = 1.0;
+/// Lattice cells across the alpha-cut screen's quad (one hole per cell).
+const LATTICE_REPEATS: f32 = 8.0;
 
 /// Checker texture: size in texels and cells per side.
 const CHECKER_TEXELS: u32 = 64;
@@ -34,6 +58,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = root.join(OUTPUT);
     write_atomically(&path, &glb)?;
     println!("wrote {} ({} bytes)", path.display(), glb.len());
+    if !write_environment(root)? {
+        println!("{ENV_SOURCE} not found: kept {ENV_OUTPUT} as it is");
+    }
     Ok(())
 }
 
@@ -214,6 +241,33 @@ impl Builder {
         })
     }
 
+    /// Embeds PNG bytes as an image and a texture that repeats; `nearest` magnifies without
+    /// filtering.
+    fn texture(&mut self, name: &str, png: &[u8], nearest: bool) -> json::Index<json::Texture> {
+        let view = self.view(png, None);
+        let image = self.root.push(json::Image {
+            buffer_view: Some(view),
+            mime_type: Some(json::image::MimeType("image/png".into())),
+            name: Some(name.into()),
+            uri: None,
+            extensions: None,
+            extras: Default::default(),
+        });
+        let sampler = self.root.push(json::texture::Sampler {
+            mag_filter: nearest.then_some(Valid(json::texture::MagFilter::Nearest)),
+            wrap_s: Valid(json::texture::WrappingMode::Repeat),
+            wrap_t: Valid(json::texture::WrappingMode::Repeat),
+            ..Default::default()
+        });
+        self.root.push(json::Texture {
+            name: Some(name.into()),
+            sampler: Some(sampler),
+            source: image,
+            extensions: None,
+            extras: Default::default(),
+        })
+    }
+
     fn node(&mut self, node: json::Node) -> json::Index<json::Node> {
         self.root.push(node)
     }
@@ -238,73 +292,91 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
         "KHR_materials_emissive_strength".into(),
     ];
 
-    // Checker texture, embedded as PNG in the binary chunk; nearest filtering keeps the
-    // cells crisp when magnified.
-    let png = checker_png()?;
-    let png_view = b.view(&png, None);
-    let image = b.root.push(json::Image {
-        buffer_view: Some(png_view),
-        mime_type: Some(json::image::MimeType("image/png".into())),
-        name: Some("checker".into()),
-        uri: None,
+    // Textures, embedded as PNG in the binary chunk. The checker uses nearest filtering so
+    // its cells stay crisp when magnified; the others filter linearly.
+    let checker = b.texture("checker", &checker_png()?, true);
+    let tiles = b.texture("tile normals", &tile_normal_png()?, false);
+    let lattice = b.texture("lattice alpha", &lattice_png()?, false);
+    let info = |index| json::texture::Info {
+        index,
+        tex_coord: 0,
         extensions: None,
         extras: Default::default(),
-    });
-    let sampler = b.root.push(json::texture::Sampler {
-        mag_filter: Some(Valid(json::texture::MagFilter::Nearest)),
-        wrap_s: Valid(json::texture::WrappingMode::Repeat),
-        wrap_t: Valid(json::texture::WrappingMode::Repeat),
-        ..Default::default()
-    });
-    let texture = b.root.push(json::Texture {
-        name: Some("checker".into()),
-        sampler: Some(sampler),
-        source: image,
-        extensions: None,
-        extras: Default::default(),
-    });
+    };
 
     // Materials. Albedos stay below ~0.8, as real diffuse surfaces do.
     let floor_material = b.material("floor", [0.8, 0.8, 0.8, 1.0], 0.0, 0.9);
     b.root.materials[floor_material.value()]
         .pbr_metallic_roughness
-        .base_color_texture = Some(json::texture::Info {
-        index: texture,
+        .base_color_texture = Some(info(checker));
+    let plinth = b.material("plinth", [0.35, 0.36, 0.38, 1.0], 0.0, 0.8);
+    // The sphere rows: metallic 1 (gold) and 0 (red plastic), each at these roughnesses.
+    // Roughness 0 is the exact mirror end of the same BSDF.
+    let sphere_materials: Vec<_> = [(1.0, [0.95, 0.78, 0.45, 1.0]), (0.0, [0.7, 0.1, 0.08, 1.0])]
+        .into_iter()
+        .flat_map(|(metallic, colour)| {
+            SPHERE_ROUGHNESS.map(|roughness| (metallic, colour, roughness))
+        })
+        .map(|(metallic, colour, roughness)| {
+            let kind = if metallic > 0.5 { "gold" } else { "plastic" };
+            b.material(&format!("{kind} r{roughness}"), colour, metallic, roughness)
+        })
+        .collect();
+    // Glazed tiles: a normal map of bevelled tiles on a fairly smooth dielectric, so the
+    // environment's highlights follow each bevel.
+    let tile_wall = b.material("tiled wall", [0.2, 0.35, 0.45, 1.0], 0.0, 0.3);
+    b.root.materials[tile_wall.value()].normal_texture = Some(json::material::NormalTexture {
+        index: tiles,
+        scale: 1.0,
         tex_coord: 0,
         extensions: None,
         extras: Default::default(),
     });
-    let red = b.material("red diffuse", [0.7, 0.12, 0.1, 1.0], 0.0, 1.0);
-    let green = b.material("green diffuse", [0.15, 0.55, 0.2, 1.0], 0.0, 1.0);
-    let blue = b.material("blue diffuse", [0.12, 0.25, 0.7, 1.0], 0.0, 1.0);
-    let mirror = b.material("mirror", [0.95, 0.95, 0.95, 1.0], 1.0, 0.0);
+    // A perforated screen: alpha MASK cuts the holes, for camera and shadow rays alike.
+    let screen = b.material("lattice screen", [0.25, 0.55, 0.3, 1.0], 0.0, 0.6);
+    {
+        let m = &mut b.root.materials[screen.value()];
+        m.pbr_metallic_roughness.base_color_texture = Some(info(lattice));
+        m.alpha_mode = Valid(json::material::AlphaMode::Mask);
+        m.alpha_cutoff = Some(json::material::AlphaCutoff(0.5));
+        m.double_sided = true;
+    }
     let emitter = b.material("warm emitter", [0.05, 0.05, 0.05, 1.0], 0.0, 1.0);
     {
         let m = &mut b.root.materials[emitter.value()];
-        // Radiance (W/(m²·sr)) = emissiveFactor × emissiveStrength: a few times brighter
-        // than the lit surfaces, as a lamp panel is.
+        // Radiance (W/(m²·sr)) = emissiveFactor × emissiveStrength. A Lambertian panel of
+        // radiance L and area A lights a surface at distance d facing it with E ≈ πL·A/(πd²)
+        // = L·A/d² for d² ≫ A: 8 × 0.9 m² at 1.5 m gives E ≈ 3.2 W/m² (red channel), a
+        // radiance of about 0.8/π × 3.2 ≈ 0.8 on a facing surface: a warm pool of light.
         m.emissive_factor = json::material::EmissiveFactor([1.0, 0.6, 0.3]);
         m.double_sided = true;
         m.extensions = Some(json::extensions::material::Material {
             emissive_strength: Some(json::extensions::material::EmissiveStrength {
-                emissive_strength: json::extensions::material::EmissiveStrengthFactor(4.0),
+                emissive_strength: json::extensions::material::EmissiveStrengthFactor(8.0),
             }),
             ..Default::default()
         });
     }
 
-    // Geometry, in object space; nodes place and size it.
+    // Geometry, in object space; nodes place and size it. Boxes carry texture coordinates
+    // in metres (times a density) so that textures keep their aspect on every face.
     let floor = b.geometry(&quad(FLOOR_HALF_SIZE_M, FLOOR_TEXTURE_REPEATS));
-    let cube = b.geometry(&unit_cube());
     let sphere = b.geometry(&unit_sphere(48, 24));
+    let plinth_box = b.geometry(&cuboid(Vec3::new(4.4, PLINTH_HEIGHT_M, 0.7), 1.0));
+    let wall_box = b.geometry(&cuboid(Vec3::new(2.0, 1.6, 0.12), TILES_PER_METRE));
+    let screen_quad = b.geometry(&quad(0.5, LATTICE_REPEATS));
     let panel = b.geometry(&quad(0.5, 1.0));
 
     let floor_mesh = b.mesh("floor", &floor, floor_material);
-    let red_box = b.mesh("red box", &cube, red);
-    let green_box = b.mesh("green box", &cube, green);
-    let blue_sphere = b.mesh("blue sphere", &sphere, blue);
-    let mirror_sphere = b.mesh("mirror sphere", &sphere, mirror);
+    let plinth_mesh = b.mesh("plinth", &plinth_box, plinth);
+    let wall_mesh = b.mesh("tiled wall", &wall_box, tile_wall);
+    let screen_mesh = b.mesh("lattice screen", &screen_quad, screen);
     let panel_mesh = b.mesh("emissive panel", &panel, emitter);
+    let sphere_meshes: Vec<_> = sphere_materials
+        .iter()
+        .enumerate()
+        .map(|(k, &material)| b.mesh(&format!("sphere {k}"), &sphere, material))
+        .collect();
 
     let mut nodes = Vec::new();
     let mut place = |b: &mut Builder, name: &str, mesh, t: Vec3, r: Quat, s: Vec3| {
@@ -325,46 +397,58 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
         Quat::IDENTITY,
         Vec3::ONE,
     );
+    // Metal row on the floor in front, plastic row behind it on a plinth so that both show.
+    let columns = SPHERE_ROUGHNESS.len();
+    for (k, &mesh) in sphere_meshes.iter().enumerate() {
+        let (row, column) = (k / columns, k % columns);
+        let x = (column as f32 - 0.5 * (columns - 1) as f32) * SPHERE_SPACING_M;
+        let centre = if row == 0 {
+            Vec3::new(x, SPHERE_RADIUS_M, 1.5)
+        } else {
+            Vec3::new(x, PLINTH_HEIGHT_M + SPHERE_RADIUS_M, 0.3)
+        };
+        place(
+            &mut b,
+            &format!("sphere {k}"),
+            mesh,
+            centre,
+            Quat::IDENTITY,
+            Vec3::splat(SPHERE_RADIUS_M),
+        );
+    }
     place(
         &mut b,
-        "red box",
-        red_box,
-        Vec3::new(-1.7, 0.4, 0.6),
-        Quat::from_rotation_y(0.5),
-        Vec3::splat(0.8),
-    );
-    place(
-        &mut b,
-        "green box",
-        green_box,
-        Vec3::new(1.7, 0.75, -0.9),
-        Quat::from_rotation_y(-0.3),
-        Vec3::new(0.6, 1.5, 0.6),
-    );
-    place(
-        &mut b,
-        "blue sphere",
-        blue_sphere,
-        Vec3::new(0.6, 0.5, 1.3),
+        "plinth",
+        plinth_mesh,
+        Vec3::new(0.0, 0.5 * PLINTH_HEIGHT_M, 0.3),
         Quat::IDENTITY,
-        Vec3::splat(0.5),
+        Vec3::ONE,
     );
     place(
         &mut b,
-        "mirror sphere",
-        mirror_sphere,
-        Vec3::new(-0.3, 0.9, -1.2),
-        Quat::IDENTITY,
-        Vec3::splat(0.9),
+        "tiled wall",
+        wall_mesh,
+        Vec3::new(-1.7, 0.8, -1.5),
+        Quat::from_rotation_y(0.35),
+        Vec3::ONE,
     );
-    // The panel quad lies in the xz plane facing +Y; stand it up facing the camera (+Z).
+    // The quads lie in the xz plane facing +Y; stand them up facing the camera (+Z).
+    let stand_up = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    place(
+        &mut b,
+        "lattice screen",
+        screen_mesh,
+        Vec3::new(1.8, 0.85, -1.2),
+        Quat::from_rotation_y(-0.4) * stand_up,
+        Vec3::new(1.8, 1.0, 1.7),
+    );
     place(
         &mut b,
         "emissive panel",
         panel_mesh,
-        Vec3::new(0.4, 1.6, -3.0),
-        Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
-        Vec3::new(1.4, 1.0, 0.7),
+        Vec3::new(0.1, 1.05, -2.3),
+        stand_up,
+        Vec3::new(1.2, 1.0, 0.75),
     );
 
     // Camera: in front, a little above, looking at the middle of the set.
@@ -383,8 +467,8 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
         extensions: None,
         extras: Default::default(),
     });
-    let eye = Vec3::new(0.0, 2.4, 7.0);
-    let target = Vec3::new(0.0, 0.7, -0.3);
+    let eye = Vec3::new(0.0, 2.3, 6.2);
+    let target = Vec3::new(0.0, 0.55, -0.2);
     nodes.push(b.node(json::Node {
         name: Some("camera".into()),
         camera: Some(camera),
@@ -430,12 +514,13 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
                 outer_cone_angle: 25f32.to_radians(),
             }),
         ),
-        // A soft fill from above: E = 1 W/m² at normal incidence.
+        // A low sun from behind: E = 3 W/m² at normal incidence, radiance ≈ 0.8/π × 3 ≈ 0.8
+        // on the floor where it faces the sun.
         light(
-            "sky fill",
+            "sun",
             punctual::Type::Directional,
             [1.0, 0.97, 0.92],
-            1.0,
+            3.0,
             None,
         ),
     ];
@@ -461,12 +546,13 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
             ..Default::default()
         })
     };
-    let spot_position = Vec3::new(-2.8, 3.8, 2.2);
+    // The spot rakes the tiled wall from the front left.
+    let spot_position = Vec3::new(-3.2, 3.4, 2.0);
     nodes.push(light_node(
         &mut b,
         "point light",
         0,
-        Vec3::new(1.8, 2.5, 1.6),
+        Vec3::new(0.8, 2.5, 2.4),
         Vec3::NEG_Y,
     ));
     nodes.push(light_node(
@@ -474,14 +560,15 @@ fn build_demo() -> Result<Vec<u8>, Box<dyn std::error::Error>> {
         "spot light",
         1,
         spot_position,
-        Vec3::new(-1.0, 0.3, -0.4) - spot_position,
+        Vec3::new(-1.7, 0.8, -1.5) - spot_position,
     ));
     nodes.push(light_node(
         &mut b,
         "sun",
         2,
         Vec3::new(0.0, 6.0, 0.0),
-        Vec3::new(0.35, -1.0, -0.45),
+        // From behind the screen, so that its cut-out shadow falls forwards onto the floor.
+        Vec3::new(-0.45, -1.0, 0.6),
     ));
 
     let scene = b.root.push(json::Scene {
@@ -552,14 +639,16 @@ fn quad(half: f32, repeats: f32) -> Geometry {
     }
 }
 
-/// The cube [−0.5, 0.5]³ with flat faces (4 vertices each, outward normals).
-fn unit_cube() -> Geometry {
+/// A box of the given size centred on the origin, with flat faces (4 vertices each, outward
+/// normals) and texture coordinates of `uv_per_metre` per metre along each face.
+fn cuboid(size: Vec3, uv_per_metre: f32) -> Geometry {
     let mut g = Geometry {
         positions: Vec::new(),
         normals: Vec::new(),
         texcoords: Vec::new(),
         indices: Vec::new(),
     };
+    let half = 0.5 * size;
     for normal in [
         Vec3::X,
         Vec3::NEG_X,
@@ -575,11 +664,17 @@ fn unit_cube() -> Geometry {
             Vec3::Y.cross(normal)
         };
         let v = normal.cross(u);
+        // Face extents in metres along u and v (the axes are unit coordinate axes).
+        let (width, height) = ((u * size).length(), (v * size).length());
         let base = u16::try_from(g.positions.len()).unwrap_or(u16::MAX);
         for (s, t) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
-            g.positions.push(0.5 * normal + s * u + t * v);
+            g.positions
+                .push(normal * half + s * width * u + t * height * v);
             g.normals.push(normal);
-            g.texcoords.push(Vec2::new(s + 0.5, 0.5 - t));
+            g.texcoords.push(Vec2::new(
+                (s + 0.5) * width * uv_per_metre,
+                (0.5 - t) * height * uv_per_metre,
+            ));
         }
         g.indices
             .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
@@ -636,6 +731,107 @@ fn checker_png() -> Result<Vec<u8>, image::ImageError> {
     let mut png = Vec::new();
     image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
     Ok(png)
+}
+
+/// Bevelled square tiles as a tangent-space normal map (PNG, linear, glTF's convention: red
+/// = +X along increasing u, green = +Y towards decreasing v, i.e. up in the image). The height
+/// of a tile rises over a bevel of width `BEVEL` from each grout line and is flat inside, so
+/// the normal tilts (by atan `SLOPE`) only near the edges; grout is flat too.
+fn tile_normal_png() -> Result<Vec<u8>, image::ImageError> {
+    const SIZE: u32 = 128;
+    const CELLS: u32 = 4;
+    const GROUT: f32 = 0.04;
+    const BEVEL: f32 = 0.1;
+    const SLOPE: f32 = 0.8;
+    // Height along one axis of a cell (t in [0, 1)) and its derivative (per cell width).
+    let profile = |t: f32| -> (f32, f32) {
+        let edge = t.min(1.0 - t) - GROUT;
+        if edge <= 0.0 {
+            (0.0, 0.0)
+        } else if edge < BEVEL {
+            (edge / BEVEL, if t < 0.5 { 1.0 } else { -1.0 } / BEVEL)
+        } else {
+            (1.0, 0.0)
+        }
+    };
+    let image = image::RgbImage::from_fn(SIZE, SIZE, |x, y| {
+        let cell = |p: u32| ((p as f32 + 0.5) / SIZE as f32 * CELLS as f32).fract();
+        let (hx, dx) = profile(cell(x));
+        let (hy, dy) = profile(cell(y));
+        // The tile's height is the lower of the two profiles (a bevelled square); its slope
+        // comes from whichever profile is lower.
+        let (dhdx, dhdy) = if hx < hy { (dx, 0.0) } else { (0.0, dy) };
+        // The bevel's slope is SLOPE (rise over run): n ∝ (−∂h/∂x, +∂h/∂y, 1) with y growing
+        // down the image, and ∂h/∂t = ±1/BEVEL on the bevel.
+        let k = SLOPE * BEVEL;
+        let n = Vec3::new(-dhdx * k, dhdy * k, 1.0).normalize();
+        let code = |c: f32| (((c * 0.5 + 0.5) * 255.0).round()).clamp(0.0, 255.0) as u8;
+        image::Rgb([code(n.x), code(n.y), code(n.z)])
+    });
+    let mut png = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+    Ok(png)
+}
+
+/// A perforated lattice as RGBA PNG: round holes (alpha 0) in a grid, with a lighter rim
+/// around each hole in the colour channels. Alpha is 0 or 255, so the MASK cut-off only
+/// decides where the filtered edge falls.
+fn lattice_png() -> Result<Vec<u8>, image::ImageError> {
+    const SIZE: u32 = 64;
+    const HOLE_RADIUS: f32 = 0.36;
+    let image = image::RgbaImage::from_fn(SIZE, SIZE, |x, y| {
+        let offset = |p: u32| (p as f32 + 0.5) / SIZE as f32 - 0.5;
+        let r = offset(x).hypot(offset(y));
+        if r < HOLE_RADIUS {
+            image::Rgba([0, 0, 0, 0])
+        } else if r < HOLE_RADIUS + 0.06 {
+            image::Rgba([255, 255, 255, 255])
+        } else {
+            image::Rgba([200, 200, 200, 255])
+        }
+    });
+    let mut png = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+    Ok(png)
+}
+
+/// Writes the demo's environment map: `../shared/env/studio.hdr` (CC0, 1024×512) averaged
+/// over 4×4 blocks to 256×128, which keeps the mean radiance (and so the light it casts)
+/// while the file stays small. Returns false, writing nothing, where the source is absent
+/// (the committed copy is then kept).
+fn write_environment(root: &Path) -> Result<bool, Box<dyn std::error::Error>> {
+    const FACTOR: u32 = 4;
+    let source = root.join(ENV_SOURCE);
+    if !source.exists() {
+        return Ok(false);
+    }
+    let full = image::open(&source)?.to_rgb32f();
+    let (width, height) = (full.width() / FACTOR, full.height() / FACTOR);
+    let mut texels = Vec::with_capacity((width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let mut sum = [0.0f64; 3];
+            for dy in 0..FACTOR {
+                for dx in 0..FACTOR {
+                    let p = full.get_pixel(x * FACTOR + dx, y * FACTOR + dy);
+                    for (s, c) in sum.iter_mut().zip(p.0) {
+                        *s += f64::from(c.max(0.0));
+                    }
+                }
+            }
+            let n = f64::from(FACTOR * FACTOR);
+            texels.push(image::Rgb(sum.map(|s| (s / n) as f32)));
+        }
+    }
+    let mut bytes = Vec::new();
+    image::codecs::hdr::HdrEncoder::new(&mut bytes).encode(
+        &texels,
+        width as usize,
+        height as usize,
+    )?;
+    write_atomically(&root.join(ENV_OUTPUT), &bytes)?;
+    println!("wrote {} ({} bytes)", ENV_OUTPUT, bytes.len());
+    Ok(true)
 }
 
 /// Writes to a temporary file in the same folder, then renames it into place, so that a

@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
 # The README's demo command: installs what is missing, builds glint in release mode and renders
-# the built-in demo scene to glint-demo.png in the current directory.
+# the built-in demo scene to glint-demo.png in the current directory, lit by the studio
+# environment map in scenes/demo-env.hdr (CC0, see scenes/demo-env-LICENSE.txt) unless the
+# arguments choose an environment themselves (--env or --background). Other arguments go to
+# `glint render` as they are.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
 export PATH="$HOME/.cargo/bin:$PATH"
-cargo run --locked --release --manifest-path "$root/Cargo.toml" -- render "$@"
+environment=(--env "$root/scenes/demo-env.hdr")
+for arg in "$@"; do
+    case "$arg" in
+    --env | --env=* | --background | --background=*) environment=() ;;
+    esac
+done
+cargo run --locked --release --manifest-path "$root/Cargo.toml" -- render "${environment[@]}" "$@"

@@ -688,6 +688,20 @@ fn demo_scene_has_every_feature() {
     let features = SceneFeatures::of(&scene);
     assert!(features.point_lights && features.spot_lights && features.directional_lights);
     assert!(features.mirrors && features.textures && features.emission);
+    // Issue 14's demo: a normal-mapped surface and an alpha-cut one, and metal-rough spheres
+    // with metallic 0 and 1 each at several roughnesses.
+    assert!(features.normal_maps && features.alpha, "{features:?}");
+    for metallic in [0.0, 1.0] {
+        let mut roughness: Vec<f32> = scene
+            .materials
+            .iter()
+            .filter(|m| m.metallic == metallic)
+            .map(|m| m.roughness)
+            .collect();
+        roughness.sort_by(f32::total_cmp);
+        roughness.dedup();
+        assert!(roughness.len() >= 5, "metallic {metallic}: {roughness:?}");
+    }
     assert_eq!(scene.cameras.len(), 1);
     assert!(
         scene
@@ -742,6 +756,32 @@ fn demo_scene_has_every_feature() {
                 "floor radiance under the sun: {radiance}"
             );
         }
+    }
+}
+
+/// The demo's environment map (`scenes/demo-env.hdr`, passed by `scripts/demo.sh`) stays
+/// small and is the shared studio HDRI averaged down: its mean radiance (solid-angle weighted)
+/// matches the full-resolution original's within 1 % per channel (box-averaging 4×4 blocks
+/// keeps the texel mean; the rest is RGBE rounding, ≤ 0.4 %, and the sin θ weight varying
+/// inside a block).
+#[test]
+fn demo_environment_is_the_studio_hdri_downscaled() {
+    use glint::light::EnvironmentLight;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let small_path = root.join("scenes/demo-env.hdr");
+    assert!(std::fs::metadata(&small_path).unwrap().len() < 200 * 1024);
+    assert!(root.join("scenes/demo-env-LICENSE.txt").exists());
+    let small = EnvironmentLight::from_file(&small_path, 1.0, 0.0).unwrap();
+    assert_eq!(small.size(), Some((256, 128)));
+    let original = root.join("../shared/env/studio.hdr");
+    if !original.exists() {
+        eprintln!("skipping the comparison: {} is absent", original.display());
+        return;
+    }
+    let full = EnvironmentLight::from_file(&original, 1.0, 0.0).unwrap();
+    let (a, b) = (small.average_radiance(), full.average_radiance());
+    for (x, y) in a.to_array().into_iter().zip(b.to_array()) {
+        assert!((x / y - 1.0).abs() < 0.01, "{a} vs {b}");
     }
 }
 

@@ -45,10 +45,12 @@ fn hash_file(path: &Path) -> u64 {
 /// `--integrator direct`. The scenes with emissive surfaces (demo, DamagedHelmet) were
 /// re-recorded when the direct integrator began sampling them as area lights (issue 12);
 /// DamagedHelmet, the one scene here with a normal map, again when normal maps were applied
-/// (issue 14; every scene without one is unchanged).
+/// (issue 14; every scene without one is unchanged). The demo's hashes were re-recorded again
+/// when issue 14 rebuilt the demo scene (metal-rough spheres, normal map, alpha cut-out): every
+/// other scene's are unchanged.
 const EXPECTED: &[(&str, u64)] = &[
-    ("demo/embree/png", 0x56aa363059c99b94), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/embree/exr", 0xcf6e46f6835a5811), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/png", 0x26ba4d6d55d257c2), // re-recorded: the new demo scene (issue 14)
+    ("demo/embree/exr", 0xbbd655fc37e29e1d), // re-recorded: the new demo scene (issue 14)
     ("BoxTextured/embree/png", 0x97d305d2b0f7e264),
     ("BoxTextured/embree/exr", 0xe79a29bfd9253e4e),
     ("Cameras/embree/png", 0x84f471709c84416f),
@@ -59,12 +61,12 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/embree/exr", 0x308b4440e0b020ce), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/embree/exr", 0x186aeab828c08a7c),
-    ("demo/embree/partial", 0x78232cd34a97a241), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/embree/progressive", 0x8ea03415a243673b), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/embree/photometric", 0x5294c1a762972aa3), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/embree/partial", 0xc39a4dce02948d8f), // re-recorded: the new demo scene (issue 14)
+    ("demo/embree/progressive", 0x63a22e88dd8f0754), // re-recorded: the new demo scene (issue 14)
+    ("demo/embree/photometric", 0x0c110dccd3d36769), // re-recorded: the new demo scene (issue 14)
     ("batch/embree", 0x34676e1796951ec1),
-    ("demo/bvh/png", 0x56aa363059c99b94), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/bvh/exr", 0xf9eea954836b5976), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/png", 0x26ba4d6d55d257c2), // re-recorded: the new demo scene (issue 14)
+    ("demo/bvh/exr", 0xb49f11428e414a8e), // re-recorded: the new demo scene (issue 14)
     ("BoxTextured/bvh/png", 0x97d305d2b0f7e264),
     ("BoxTextured/bvh/exr", 0x40d70716d5acd3e7),
     ("Cameras/bvh/png", 0x84f471709c84416f),
@@ -75,9 +77,9 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/bvh/exr", 0x060188e3de609b85), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/bvh/exr", 0x826b2ffbe56c50d1),
-    ("demo/bvh/partial", 0x5a08b9bcd50479f1), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/bvh/progressive", 0x566caab0e57dbf2f), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("demo/bvh/photometric", 0x41fdcb2bfd7177a0), // re-recorded: direct light from emissive surfaces (issue 12)
+    ("demo/bvh/partial", 0xa461146068e84a3b), // re-recorded: the new demo scene (issue 14)
+    ("demo/bvh/progressive", 0x02801e9f46e8b830), // re-recorded: the new demo scene (issue 14)
+    ("demo/bvh/photometric", 0x006d2b221b0908f8), // re-recorded: the new demo scene (issue 14)
     ("batch/bvh", 0xcc1afacaeea17d0d),
 ];
 
