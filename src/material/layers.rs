@@ -43,6 +43,37 @@ impl ShadingLayers {
         })
     }
 
+    /// Whether any layer reads a texture (the kernels then look them up at each hit, see
+    /// `render::layer_textures`).
+    #[inline]
+    pub fn has_textures(&self) -> bool {
+        crate::scene::layers::any_texture(
+            self.clearcoat.as_ref(),
+            self.sheen.as_ref(),
+            self.transmission.as_ref(),
+        )
+    }
+
+    /// These layers without texture references to textures the scene lacks (`texture_count`
+    /// of them): the loader reports those, and the renderer must not index out of bounds.
+    pub fn with_valid_textures(mut self, texture_count: usize) -> Self {
+        let valid = |t: &mut Option<crate::scene::TextureRef>| {
+            *t = t.filter(|r| r.texture < texture_count);
+        };
+        if let Some(c) = &mut self.clearcoat {
+            valid(&mut c.texture);
+            valid(&mut c.roughness_texture);
+        }
+        if let Some(s) = &mut self.sheen {
+            valid(&mut s.color_texture);
+            valid(&mut s.roughness_texture);
+        }
+        if let Some(t) = &mut self.transmission {
+            valid(&mut t.texture);
+        }
+        self
+    }
+
     /// Whether light may pass through the surface (then back faces are shaded whatever
     /// `doubleSided` says: a ray leaving a glass object meets them from inside).
     #[inline]

@@ -348,10 +348,21 @@ fn shade<
     } else {
         (material.metallic, material.roughness)
     };
-    let bsdf = SurfaceBsdf::for_hit(
+    let layers = match &material.layers {
+        Some(l) if TEXTURES && l.has_textures() => Some(super::layer_textures::at_hit(
+            ctx,
+            mesh,
+            &si,
+            footprint.as_ref(),
+            l,
+        )),
+        other => *other,
+    };
+    let bsdf = SurfaceBsdf::for_hit_with_layers(
         albedo,
         metallic_roughness,
         material,
+        layers.as_ref(),
         ctx.delta_only,
         si.front_face,
     );

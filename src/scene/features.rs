@@ -15,8 +15,8 @@ pub struct SceneFeatures {
     pub directional_lights: bool,
     /// At least one light with a finite range.
     pub light_ranges: bool,
-    /// At least one material with a base colour, emissive, metallic-roughness or normal
-    /// texture, or a procedural one.
+    /// At least one material with a base colour, emissive, metallic-roughness, normal or
+    /// KHR_materials layer texture, or a procedural one.
     pub textures: bool,
     /// At least one material with a mirror lobe.
     pub mirrors: bool,
@@ -70,6 +70,11 @@ impl SceneFeatures {
                 material.base_color_texture.is_some() || material.emissive_texture.is_some();
             f.textures |= material.procedural.is_some();
             f.textures |= material.metallic_roughness_texture.is_some();
+            f.textures |= super::layers::any_texture(
+                material.clearcoat.as_ref(),
+                material.sheen.as_ref(),
+                material.transmission.as_ref(),
+            );
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
             f.single_sided |= !material.double_sided;
