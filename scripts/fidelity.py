@@ -60,6 +60,9 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--glint", default=os.path.join(ROOT, "target", "debug", "glint"))
+    ap.add_argument("--golden", default=None,
+                    help="compare against this EXR instead of cycles.exr; {model} is replaced "
+                         "by the model's name (e.g. a Cycles variant rendered for a check)")
     ap.add_argument("models", nargs="*")
     args = ap.parse_args()
     names = args.models or sorted(
@@ -70,7 +73,9 @@ def main():
     with tempfile.TemporaryDirectory(prefix="glint-fidelity-") as tmp:
         for name in names:
             model = model_file(name)
-            golden = read_rgb(os.path.join(KHRONOS, name, "cycles.exr"))
+            golden_path = (args.golden.replace("{model}", name) if args.golden
+                           else os.path.join(KHRONOS, name, "cycles.exr"))
+            golden = read_rgb(golden_path)
             h, w = golden.shape[:2]
             out = os.path.join(tmp, name + ".exr")
             cmd = [args.glint, "render", model, "--env", ENV, "--max-depth", "8",
