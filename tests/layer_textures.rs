@@ -10,7 +10,9 @@ use glam::{Vec2, Vec3, Vec4};
 use glint::accel::BackendKind;
 use glint::render::{Integrator, RenderSettings};
 use glint::scene::layers::{Clearcoat, Sheen, Transmission};
-use glint::scene::{Light, MagFilter, Material, Mesh, Scene, Texture, TextureRef, WrapMode};
+use glint::scene::{
+    Light, MagFilter, Material, Mesh, NormalTextureRef, Scene, Texture, TextureRef, WrapMode,
+};
 use glint::texture::TextureFilter;
 use render_support::{centre_settings, emitter, look_at, quad, render_with};
 
@@ -52,10 +54,11 @@ fn textured_quad() -> Mesh {
 /// transmission test sees through the quad), seen by a perspective camera; `textures` are the
 /// scene's textures.
 fn render(material: Material, textures: Vec<Texture>) -> Vec<Vec3> {
-    let meshes = vec![
-        textured_quad(),
-        quad(-Vec3::Z * 2.0, Vec3::X * 4.0, Vec3::Y * 4.0, 1),
-    ];
+    render_mesh(textured_quad(), material, textures)
+}
+
+fn render_mesh(front: Mesh, material: Material, textures: Vec<Texture>) -> Vec<Vec3> {
+    let meshes = vec![front, quad(-Vec3::Z * 2.0, Vec3::X * 4.0, Vec3::Y * 4.0, 1)];
     let scene = Scene {
         meshes,
         materials: vec![material, emitter(Vec3::new(0.3, 0.5, 0.7))],
@@ -97,6 +100,7 @@ fn coat(factor: f32, roughness: f32, textured: bool) -> Material {
             roughness,
             texture: if textured { tref() } else { None },
             roughness_texture: if textured { tref() } else { None },
+            normal_texture: None,
         }),
         ..base()
     }
@@ -204,4 +208,53 @@ fn a_half_black_coat_texture_removes_the_coat_on_that_half() {
             .any(|(a, b)| (*a - *b).abs().max_element() > 1e-3),
         "the coat had no effect"
     );
+}
+
+/// The quad's coat with a normal map of the one texel `texel` (texture 0); the quad gets
+/// tangents along +X.
+fn render_coat_normal(texel: Option<Vec4>) -> Vec<Vec3> {
+    let mut material = coat(1.0, 0.2, false);
+    if let (Some(c), Some(_)) = (&mut material.clearcoat, texel) {
+        c.normal_texture = Some(NormalTextureRef {
+            texture: tref().expect("some"),
+            scale: 1.0,
+        });
+    }
+    render_tangent(
+        material,
+        texel.map(|t| vec![texture(&[t])]).unwrap_or_default(),
+    )
+}
+
+fn render_tangent(material: Material, textures: Vec<Texture>) -> Vec<Vec3> {
+    let mut q = textured_quad();
+    q.tangents = Some(vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4]);
+    render_mesh(q, material, textures)
+}
+
+#[test]
+fn a_flat_coat_normal_map_changes_nothing_and_a_tilted_one_moves_the_coat() {
+    let none = render_coat_normal(None);
+    // (0.5, 0.5, 1) decodes to the unperturbed normal.
+    let flat = render_coat_normal(Some(Vec4::new(0.5, 0.5, 1.0, 1.0)));
+    assert_same(&flat, &none, "flat coat normal map");
+    let tilted = render_coat_normal(Some(Vec4::new(0.8, 0.5, 0.9, 1.0)));
+    assert!(
+        tilted
+            .iter()
+            .zip(&none)
+            .any(|(a, b)| (*a - *b).abs().max_element() > 1e-3),
+        "the coat normal map had no effect"
+    );
+    // The base is untouched: with a coat of strength 0 the map changes nothing.
+    let mut zero = coat(0.0, 0.2, false);
+    let plain = render_tangent(zero.clone(), vec![]);
+    if let Some(c) = &mut zero.clearcoat {
+        c.normal_texture = Some(NormalTextureRef {
+            texture: tref().expect("some"),
+            scale: 1.0,
+        });
+    }
+    let mapped = render_tangent(zero, vec![texture(&[Vec4::new(0.8, 0.5, 0.9, 1.0)])]);
+    assert_same(&mapped, &plain, "coat of strength 0");
 }

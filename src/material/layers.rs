@@ -20,6 +20,9 @@ pub struct ShadingLayers {
     pub volume: bool,
     /// The volume's Beer-Lambert attenuation coefficient σ (zero: clear, or no volume).
     pub sigma: Vec3,
+    /// The clear coat's own normal at the hit, in the BSDF's local frame (set per hit from
+    /// `clearcoatNormalTexture` by `render::layer_textures`; `None`: the shading normal).
+    pub coat_normal: Option<Vec3>,
 }
 
 impl ShadingLayers {
@@ -40,6 +43,7 @@ impl ShadingLayers {
             transmission: material.transmission,
             volume: volume.is_some(),
             sigma: volume.map_or(Vec3::ZERO, |v| v.sigma()),
+            coat_normal: None,
         })
     }
 
@@ -63,6 +67,9 @@ impl ShadingLayers {
         if let Some(c) = &mut self.clearcoat {
             valid(&mut c.texture);
             valid(&mut c.roughness_texture);
+            c.normal_texture = c
+                .normal_texture
+                .filter(|n| n.texture.texture < texture_count);
         }
         if let Some(s) = &mut self.sheen {
             valid(&mut s.color_texture);
@@ -115,8 +122,13 @@ impl ShadingLayers {
             base,
             transmission,
             self.sheen.map(|s| SheenBsdf::new(s.color, s.roughness)),
-            self.clearcoat
-                .map(|c| ClearcoatBsdf::new(c.factor, c.roughness)),
+            self.clearcoat.map(|c| {
+                let coat = ClearcoatBsdf::new(c.factor, c.roughness);
+                match self.coat_normal {
+                    Some(n) => coat.with_normal(n),
+                    None => coat,
+                }
+            }),
         )
     }
 }

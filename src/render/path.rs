@@ -304,6 +304,9 @@ fn shade<
     } else {
         None
     };
+    // The interpolated normal, before the base's normal map: a clear coat's normal map
+    // perturbs this one.
+    let vertex_ns = si.ns;
     let mapped_tangent = if NORMAL_MAPS {
         super::normal_maps::apply(ctx, mesh, &mut si, footprint.as_ref(), material)
     } else {
@@ -348,14 +351,26 @@ fn shade<
     } else {
         (material.metallic, material.roughness)
     };
+    let frame = match mapped_tangent {
+        Some(t) => Frame::from_normal_tangent(si.ns, t),
+        None => Frame::from_normal(si.ns),
+    };
     let layers = match &material.layers {
-        Some(l) if TEXTURES && l.has_textures() => Some(super::layer_textures::at_hit(
-            ctx,
-            mesh,
-            &si,
-            footprint.as_ref(),
-            l,
-        )),
+        Some(l) if TEXTURES && l.has_textures() => {
+            let mut l = super::layer_textures::at_hit(ctx, mesh, &si, footprint.as_ref(), l);
+            if NORMAL_MAPS {
+                l.coat_normal = super::layer_textures::coat_normal(
+                    ctx,
+                    mesh,
+                    &si,
+                    vertex_ns,
+                    footprint.as_ref(),
+                    material,
+                    &frame,
+                );
+            }
+            Some(l)
+        }
         other => *other,
     };
     let bsdf = SurfaceBsdf::for_hit_with_layers(
@@ -366,10 +381,6 @@ fn shade<
         ctx.delta_only,
         si.front_face,
     );
-    let frame = match mapped_tangent {
-        Some(t) => Frame::from_normal_tangent(si.ns, t),
-        None => Frame::from_normal(si.ns),
-    };
     let wo = frame.to_local(si.wo);
     if !bsdf.is_delta() {
         sample_lights::<TEXTURES>(ctx, &si, &frame, wo, &bsdf, path, q);

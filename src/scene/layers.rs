@@ -3,7 +3,7 @@
 //! extension, so such materials shade exactly as before (see
 //! [`crate::bsdf::layered`] for the BSDF they become).
 
-use super::TextureRef;
+use super::{NormalTextureRef, TextureRef};
 use glam::Vec3;
 
 /// KHR_materials_clearcoat.
@@ -17,6 +17,9 @@ pub struct Clearcoat {
     pub texture: Option<TextureRef>,
     /// `clearcoatRoughnessTexture` (linear): its green channel multiplies `roughness`.
     pub roughness_texture: Option<TextureRef>,
+    /// `clearcoatNormalTexture` with its `scale`: the coat's own shading normal, in the same
+    /// tangent frame as the base's normal map (see [`crate::material::normal_map`]).
+    pub normal_texture: Option<NormalTextureRef>,
 }
 
 /// KHR_materials_sheen.
@@ -62,8 +65,9 @@ pub fn any_texture(
     sheen: Option<&Sheen>,
     transmission: Option<&Transmission>,
 ) -> bool {
-    clearcoat.is_some_and(|c| c.texture.is_some() || c.roughness_texture.is_some())
-        || sheen.is_some_and(|s| s.color_texture.is_some() || s.roughness_texture.is_some())
+    clearcoat.is_some_and(|c| {
+        c.texture.is_some() || c.roughness_texture.is_some() || c.normal_texture.is_some()
+    }) || sheen.is_some_and(|s| s.color_texture.is_some() || s.roughness_texture.is_some())
         || transmission.is_some_and(|t| t.texture.is_some())
 }
 

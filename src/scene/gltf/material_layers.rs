@@ -5,17 +5,16 @@
 //! the usual clamping warning). Their textures (`clearcoatTexture` R, `clearcoatRoughnessTexture`
 //! G, `sheenColorTexture` RGB, `sheenRoughnessTexture` A, `transmissionTexture` R) are
 //! requested like the core ones and multiply the factors at each hit
-//! (`render::layer_textures`). `clearcoatNormalTexture` is not applied yet: a material with
-//! one gets one warning, and the coat uses the surface's shading normal.
+//! (`render::layer_textures`). `clearcoatNormalTexture` (with its `scale`) gives the coat its own shading normal.
 //! Absent or empty extensions leave the fields `None`, so materials without them are
 //! untouched.
 
 use super::limits;
 use super::normal_texture::{RawTransform, TextureSlot};
 use super::source::Origin;
-use crate::scene::TextureRef;
 use crate::scene::layers::{Clearcoat, Sheen, Transmission, Volume};
 use crate::scene::texture_decode::ColorSpace;
+use crate::scene::{NormalTextureRef, TextureRef};
 use ::gltf::json::Value;
 use glam::Vec3;
 
@@ -63,7 +62,6 @@ where
     let mut layers = Layers::default();
     if let Some(ext) = material.extension_value("KHR_materials_clearcoat") {
         let ext_name = "KHR_materials_clearcoat";
-        reader.unapplied_textures(ext, ext_name, &["clearcoatNormalTexture"]);
         let factor = reader.number(ext, ext_name, "clearcoatFactor", 0.0, 0.0, 1.0);
         let roughness = reader.number(ext, ext_name, "clearcoatRoughnessFactor", 0.0, 0.0, 1.0);
         if factor > 0.0 {
@@ -84,6 +82,17 @@ where
                     "clearcoatRoughnessTexture",
                     ColorSpace::Linear,
                 ),
+                normal_texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "clearcoatNormalTexture",
+                    ColorSpace::Linear,
+                )
+                .map(|texture| NormalTextureRef {
+                    texture,
+                    scale: reader.coat_normal_scale(ext),
+                }),
             });
         }
     }
@@ -279,31 +288,26 @@ impl Reader<'_, '_> {
         })
     }
 
-    /// One warning naming the textures of `fields` the extension object has: glint uses
-    /// their factors only, for now.
-    fn unapplied_textures(&mut self, ext: &Value, ext_name: &str, fields: &[&str]) {
-        let present: Vec<&str> = fields
-            .iter()
-            .copied()
-            .filter(|f| ext.get(*f).is_some())
-            .collect();
-        if present.is_empty() {
-            return;
-        }
-        let coat_normal = if present.contains(&"clearcoatNormalTexture") {
-            "; the coat uses the surface's shading normal"
-        } else {
-            ""
+    /// `clearcoatNormalTexture.scale`: 1 when absent; a non-finite or non-number one is
+    /// replaced by 1 with a warning (as for `normalTexture.scale`).
+    fn coat_normal_scale(&mut self, ext: &Value) -> f32 {
+        let Some(v) = ext
+            .get("clearcoatNormalTexture")
+            .and_then(|t| t.get("scale"))
+        else {
+            return 1.0;
         };
-        self.warnings.push(format!(
-            "{}: {}: {ext_name}'s {} not yet applied (glint uses the factors alone{coat_normal})",
-            self.origin.file.display(),
-            self.label,
-            match present.as_slice() {
-                [one] => format!("{one} is"),
-                many => format!("{} are", many.join(", ")),
+        match v.as_f64().map(|s| s as f32).filter(|s| s.is_finite()) {
+            Some(s) => s,
+            None => {
+                self.warnings.push(format!(
+                    "{}: {}: KHR_materials_clearcoat.clearcoatNormalTexture.scale is {v}, not a finite number; using 1",
+                    self.origin.file.display(),
+                    self.label
+                ));
+                1.0
             }
-        ));
+        }
     }
 }
 
@@ -350,7 +354,8 @@ mod tests {
             "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_transmission"],
             "materials": [{{"extensions": {{
                 "KHR_materials_clearcoat": {{"clearcoatFactor": 1, "clearcoatTexture": {{"index": 0}},
-                    "clearcoatRoughnessTexture": {{"index": 1, "texCoord": 1}}}},
+                    "clearcoatRoughnessTexture": {{"index": 1, "texCoord": 1}},
+                "clearcoatNormalTexture": {{"index": 2, "scale": 0.5}}}},
                 "KHR_materials_sheen": {{"sheenColorFactor": [1, 1, 1], "sheenColorTexture": {{"index": 2}},
                     "sheenRoughnessTexture": {{"index": 2}}}},
                 "KHR_materials_transmission": {{"transmissionFactor": 0.5, "transmissionTexture": {{"index": 1}}}}
@@ -364,6 +369,7 @@ mod tests {
             [
                 (0, 0, Linear),
                 (1, 1, Linear),
+                (2, 0, Linear),
                 (2, 0, Srgb),
                 (2, 0, Linear),
                 (1, 0, Linear)
@@ -375,6 +381,8 @@ mod tests {
             coat.roughness_texture.map(|t| (t.texture, t.texcoord)),
             Some((1, 1))
         );
+        let normal = coat.normal_texture.expect("coat normal");
+        assert_eq!((normal.texture.texture, normal.scale), (2, 0.5));
         let sheen = layers.sheen.expect("sheen");
         assert_eq!(sheen.color_texture.map(|t| t.texture), Some(2));
         assert_eq!(sheen.roughness_texture.map(|t| t.texture), Some(2));
@@ -383,19 +391,20 @@ mod tests {
     }
 
     #[test]
-    fn bad_layer_textures_are_ignored_with_a_warning_and_the_coat_normal_is_named() {
+    fn bad_layer_textures_are_ignored_with_a_warning() {
         let json = format!(
             r#"{{"asset": {{"version": "2.0"}}, {TEXTURES},
             "extensionsUsed": ["KHR_materials_clearcoat"],
             "materials": [{{"extensions": {{"KHR_materials_clearcoat": {{"clearcoatFactor": 1,
                 "clearcoatTexture": {{"index": 7}},
                 "clearcoatRoughnessTexture": {{"texCoord": 0}},
-                "clearcoatNormalTexture": {{"index": 0}}}}}}}}]}}"#
+                "clearcoatNormalTexture": {{"index": 0, "scale": "big"}}}}}}}}]}}"#
         );
         let (layers, requests, warnings) = read_first(json.as_bytes());
-        assert!(requests.is_empty());
+        assert_eq!(requests, [(0, 0, ColorSpace::Linear)]);
         let coat = layers.clearcoat.expect("coat");
         assert_eq!((coat.texture, coat.roughness_texture), (None, None));
+        assert_eq!(coat.normal_texture.map(|n| n.scale), Some(1.0));
         assert_eq!(warnings.len(), 3, "{warnings:?}");
         assert!(
             warnings
@@ -410,7 +419,7 @@ mod tests {
         assert!(
             warnings
                 .iter()
-                .any(|w| w.contains("clearcoatNormalTexture is not yet applied"))
+                .any(|w| w.contains("clearcoatNormalTexture.scale is"))
         );
     }
 
