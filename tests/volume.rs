@@ -20,7 +20,10 @@ fn glass(volume: Option<Volume>) -> Material {
         metallic: 0.0,
         roughness: 0.0,
         ior: 1.0,
-        transmission: Some(Transmission { factor: 1.0 }),
+        transmission: Some(Transmission {
+            factor: 1.0,
+            texture: None,
+        }),
         volume,
         ..Material::default()
     }

@@ -16,14 +16,16 @@
 //! holds: the coat takes `c Fc` of the light and the base gets the rest, so a base with
 //! `∫ f_base cos ≤ 1` stays ≤ 1 coated.
 //!
-//! The coat normal is the shading normal: `clearcoatNormalTexture` is not applied yet (the
-//! loader warns once per material that has one).
+//! The coat normal `n` is the shading normal, or the coat's own (`clearcoatNormalTexture`):
+//! then [`ClearcoatBsdf::with_normal`] gives it in the base's local frame, and every `n·`
+//! above, `D`, `G2` and the sampling are taken in a frame around it (the base layer keeps
+//! its own normal; the integrator's cosine stays the base frame's).
 //!
 //! **Sampling.** A visible normal for `wo`, reflected (`pdf = Dv(wo, h)/(4|wo·h|)`); below
 //! [`SMOOTH_ALPHA`](super::microfacet::SMOOTH_ALPHA) a delta mirror of reflectance `c Fc(wo)`.
 
 use super::microfacet::{TrowbridgeReitz, reflect};
-use super::{Bsdf, BsdfSample};
+use super::{Bsdf, BsdfSample, Frame};
 use glam::{Vec2, Vec3};
 
 /// The clear-coat lobe alone, `c · Fc(wo) · D · V` (see the module documentation).
@@ -33,6 +35,8 @@ pub struct ClearcoatBsdf {
     pub factor: f32,
     /// The coat's GGX distribution.
     pub distribution: TrowbridgeReitz,
+    /// The coat's own normal frame in the local frame of the BSDF (`None`: the local +Z).
+    pub frame: Option<Frame>,
 }
 
 /// The coat's Fresnel reflectance at normal incidence (index 1.5 against air).
@@ -48,7 +52,34 @@ impl ClearcoatBsdf {
                 0.0
             },
             distribution: TrowbridgeReitz::from_roughness(roughness),
+            frame: None,
         }
+    }
+
+    /// This coat with its own unit normal `n`, given in the BSDF's local frame (a normal at
+    /// or below the local horizon, or not finite, keeps the local +Z).
+    pub fn with_normal(self, n: Vec3) -> Self {
+        let n = n.normalize_or_zero();
+        let frame = (n.is_finite() && n.z > 0.0 && n != Vec3::Z).then(|| Frame::from_normal(n));
+        Self { frame, ..self }
+    }
+
+    /// `w` in the coat's frame.
+    #[inline]
+    fn local(&self, w: Vec3) -> Vec3 {
+        self.frame.map_or(w, |f| f.to_local(w))
+    }
+
+    /// `c · Fc(n·wo)` for `wo` in the BSDF's local frame, with the coat's own normal.
+    #[inline]
+    pub fn weight_at(&self, wo: Vec3) -> f32 {
+        self.weight(self.local(wo).z.max(0.0))
+    }
+
+    /// `1 − c · Fc(n·wo)` for `wo` in the BSDF's local frame, with the coat's own normal.
+    #[inline]
+    pub fn base_attenuation_at(&self, wo: Vec3) -> f32 {
+        1.0 - self.weight_at(wo)
     }
 
     /// `c · Fc(n·wo)`: the share of light the coat takes, and the weight of its lobe.
@@ -68,6 +99,42 @@ impl ClearcoatBsdf {
 
 impl Bsdf for ClearcoatBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if wi.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        self.eval_local(self.local(wo), self.local(wi))
+    }
+
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wi.z <= 0.0 {
+            return 0.0;
+        }
+        self.pdf_local(self.local(wo), self.local(wi))
+    }
+
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let mut s = self.sample_local(self.local(wo), u_lobe, u)?;
+        if let Some(f) = &self.frame {
+            s.wi = f.to_world(s.wi);
+            if s.wi.z <= 0.0 {
+                return None;
+            }
+            if !s.delta {
+                // The weight's cosine is the BSDF frame's, not the coat's.
+                s.weight = self.eval(wo, s.wi) * (s.wi.z / s.pdf);
+            }
+        }
+        Some(s)
+    }
+
+    fn is_delta(&self) -> bool {
+        self.distribution.is_smooth()
+    }
+}
+
+impl ClearcoatBsdf {
+    /// [`Bsdf::eval`] with `wo`, `wi` in the coat's frame.
+    fn eval_local(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.distribution.is_smooth() {
             return Vec3::ZERO;
         }
@@ -79,7 +146,8 @@ impl Bsdf for ClearcoatBsdf {
         Vec3::splat(self.weight(wo.z) * tr.d(h) * tr.g2(wo, wi) / (4.0 * wo.z * wi.z))
     }
 
-    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    /// [`Bsdf::pdf`] with `wo`, `wi` in the coat's frame.
+    fn pdf_local(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.distribution.is_smooth() {
             return 0.0;
         }
@@ -90,7 +158,8 @@ impl Bsdf for ClearcoatBsdf {
         self.distribution.reflection_pdf(wo, h)
     }
 
-    fn sample(&self, wo: Vec3, _u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+    /// [`Bsdf::sample`] in the coat's frame (weight with the coat frame's cosine).
+    fn sample_local(&self, wo: Vec3, _u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -107,20 +176,62 @@ impl Bsdf for ClearcoatBsdf {
         if wi.z <= 0.0 {
             return None;
         }
-        let pdf = self.pdf(wo, wi);
+        let pdf = self.pdf_local(wo, wi);
         if !pdf.is_finite() || pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         Some(BsdfSample {
             wi,
-            weight: self.eval(wo, wi) * (wi.z / pdf),
+            weight: self.eval_local(wo, wi) * (wi.z / pdf),
             pdf,
             delta: false,
             transmission: false,
         })
     }
+}
 
-    fn is_delta(&self) -> bool {
-        self.distribution.is_smooth()
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A coat with its own normal `n` is the untilted coat rotated onto `n`: for directions
+    /// `a`, `b` above both horizons, f_n(R a, R b) = f(a, b) and the same for the pdf, with R
+    /// the coat frame's rotation; and a sample's direction lies in the rotated lobe.
+    #[test]
+    fn a_tilted_coat_normal_rotates_the_lobe() {
+        let plain = ClearcoatBsdf::new(0.8, 0.4);
+        let n = Vec3::new(0.3, -0.2, 1.0).normalize();
+        let tilted = plain.with_normal(n);
+        let frame = Frame::from_normal(n);
+        let dirs = [
+            Vec3::new(0.1, 0.2, 1.0),
+            Vec3::new(-0.3, 0.1, 0.8),
+            Vec3::new(0.2, -0.25, 0.9),
+        ]
+        .map(Vec3::normalize);
+        for a in dirs {
+            for b in dirs {
+                let (ra, rb) = (frame.to_world(a), frame.to_world(b));
+                assert!(ra.z > 0.0 && rb.z > 0.0);
+                let (f, f_n) = (plain.eval(a, b).x, tilted.eval(ra, rb).x);
+                assert!((f - f_n).abs() <= 1e-4 * f.max(1e-3), "{f} vs {f_n}");
+                let (p, p_n) = (plain.pdf(a, b), tilted.pdf(ra, rb));
+                assert!((p - p_n).abs() <= 1e-4 * p.max(1e-3), "{p} vs {p_n}");
+                assert!((plain.weight(a.z) - tilted.weight_at(ra)).abs() < 1e-5);
+            }
+        }
+        // The untilted normal (or one below the horizon) leaves the coat as it was.
+        assert_eq!(plain.with_normal(Vec3::Z), plain);
+        assert_eq!(plain.with_normal(-Vec3::Z), plain);
+        // Sampling in the tilted frame: the sample's pdf is the tilted pdf, and its weight
+        // is f · cos(base) / pdf.
+        let wo = frame.to_world(dirs[0]);
+        let s = tilted
+            .sample(wo, 0.5, Vec2::new(0.3, 0.6))
+            .expect("a sample");
+        let pdf = tilted.pdf(wo, s.wi);
+        assert!((s.pdf - pdf).abs() <= 1e-4 * pdf);
+        let w = tilted.eval(wo, s.wi).x * s.wi.z / pdf;
+        assert!((s.weight.x - w).abs() <= 1e-4 * w.max(1e-3));
     }
 }

@@ -100,7 +100,7 @@ impl LayeredBsdf {
     /// The factor the coat and the sheen put on the base lobes for `(wo, wi)`.
     #[inline]
     fn base_factor(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let coat = self.clearcoat.map_or(1.0, |c| c.base_attenuation(wo.z));
+        let coat = self.clearcoat.map_or(1.0, |c| c.base_attenuation_at(wo));
         let sheen = self.sheen.map_or(1.0, |s| s.albedo_scaling(wo.z, wi.z));
         coat * sheen
     }
@@ -108,7 +108,7 @@ impl LayeredBsdf {
     /// Unnormalised selection weights of the lobes for `wo`.
     #[inline]
     fn weights(&self, wo: Vec3) -> [f32; 4] {
-        let coat = self.clearcoat.map_or(0.0, |c| c.weight(wo.z));
+        let coat = self.clearcoat.map_or(0.0, |c| c.weight_at(wo));
         let sheen = self.sheen.map_or(0.0, |s| s.albedo(wo.z));
         let rest = (1.0 - coat) * (1.0 - sheen).max(0.0);
         let t = self.transmission.map_or(0.0, |(w, _)| w);

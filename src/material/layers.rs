@@ -20,6 +20,9 @@ pub struct ShadingLayers {
     pub volume: bool,
     /// The volume's Beer-Lambert attenuation coefficient σ (zero: clear, or no volume).
     pub sigma: Vec3,
+    /// The clear coat's own normal at the hit, in the BSDF's local frame (set per hit from
+    /// `clearcoatNormalTexture` by `render::layer_textures`; `None`: the shading normal).
+    pub coat_normal: Option<Vec3>,
 }
 
 impl ShadingLayers {
@@ -40,7 +43,42 @@ impl ShadingLayers {
             transmission: material.transmission,
             volume: volume.is_some(),
             sigma: volume.map_or(Vec3::ZERO, |v| v.sigma()),
+            coat_normal: None,
         })
+    }
+
+    /// Whether any layer reads a texture (the kernels then look them up at each hit, see
+    /// `render::layer_textures`).
+    #[inline]
+    pub fn has_textures(&self) -> bool {
+        crate::scene::layers::any_texture(
+            self.clearcoat.as_ref(),
+            self.sheen.as_ref(),
+            self.transmission.as_ref(),
+        )
+    }
+
+    /// These layers without texture references to textures the scene lacks (`texture_count`
+    /// of them): the loader reports those, and the renderer must not index out of bounds.
+    pub fn with_valid_textures(mut self, texture_count: usize) -> Self {
+        let valid = |t: &mut Option<crate::scene::TextureRef>| {
+            *t = t.filter(|r| r.texture < texture_count);
+        };
+        if let Some(c) = &mut self.clearcoat {
+            valid(&mut c.texture);
+            valid(&mut c.roughness_texture);
+            c.normal_texture = c
+                .normal_texture
+                .filter(|n| n.texture.texture < texture_count);
+        }
+        if let Some(s) = &mut self.sheen {
+            valid(&mut s.color_texture);
+            valid(&mut s.roughness_texture);
+        }
+        if let Some(t) = &mut self.transmission {
+            valid(&mut t.texture);
+        }
+        self
     }
 
     /// Whether light may pass through the surface (then back faces are shaded whatever
@@ -84,8 +122,13 @@ impl ShadingLayers {
             base,
             transmission,
             self.sheen.map(|s| SheenBsdf::new(s.color, s.roughness)),
-            self.clearcoat
-                .map(|c| ClearcoatBsdf::new(c.factor, c.roughness)),
+            self.clearcoat.map(|c| {
+                let coat = ClearcoatBsdf::new(c.factor, c.roughness);
+                match self.coat_normal {
+                    Some(n) => coat.with_normal(n),
+                    None => coat,
+                }
+            }),
         )
     }
 }

@@ -90,7 +90,8 @@ impl ShadingMaterial {
             normal_texture: material
                 .normal_texture
                 .filter(|n| n.texture.texture < texture_count),
-            layers: layers::ShadingLayers::of(material),
+            layers: layers::ShadingLayers::of(material)
+                .map(|l| l.with_valid_textures(texture_count)),
         }
     }
 

@@ -181,12 +181,33 @@ impl SurfaceBsdf {
     #[inline]
     pub fn for_hit(
         base_color: Vec3,
-        (metallic, roughness): (f32, f32),
+        metallic_roughness: (f32, f32),
         material: &crate::material::ShadingMaterial,
         delta_only: bool,
         front_face: bool,
     ) -> Self {
-        let Some(layers) = &material.layers else {
+        Self::for_hit_with_layers(
+            base_color,
+            metallic_roughness,
+            material,
+            material.layers.as_ref(),
+            delta_only,
+            front_face,
+        )
+    }
+
+    /// [`SurfaceBsdf::for_hit`] with the hit's own `layers` (the material's, with their
+    /// textures applied at the hit) in place of the material's.
+    #[inline]
+    pub fn for_hit_with_layers(
+        base_color: Vec3,
+        (metallic, roughness): (f32, f32),
+        material: &crate::material::ShadingMaterial,
+        layers: Option<&crate::material::layers::ShadingLayers>,
+        delta_only: bool,
+        front_face: bool,
+    ) -> Self {
+        let Some(layers) = layers else {
             return Self::for_material_at(base_color, (metallic, roughness), material, delta_only);
         };
         let base = MetallicRoughnessBsdf::new(base_color, metallic, roughness)

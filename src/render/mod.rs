@@ -17,6 +17,7 @@ pub mod ids;
 pub(crate) mod integrator;
 pub mod job;
 pub mod kernel;
+mod layer_textures;
 pub mod medium;
 mod normal_maps;
 pub mod options;

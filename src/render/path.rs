@@ -304,6 +304,9 @@ fn shade<
     } else {
         None
     };
+    // The interpolated normal, before the base's normal map: a clear coat's normal map
+    // perturbs this one.
+    let vertex_ns = si.ns;
     let mapped_tangent = if NORMAL_MAPS {
         super::normal_maps::apply(ctx, mesh, &mut si, footprint.as_ref(), material)
     } else {
@@ -348,17 +351,36 @@ fn shade<
     } else {
         (material.metallic, material.roughness)
     };
-    let bsdf = SurfaceBsdf::for_hit(
-        albedo,
-        metallic_roughness,
-        material,
-        ctx.delta_only,
-        si.front_face,
-    );
     let frame = match mapped_tangent {
         Some(t) => Frame::from_normal_tangent(si.ns, t),
         None => Frame::from_normal(si.ns),
     };
+    let layers = match &material.layers {
+        Some(l) if TEXTURES && l.has_textures() => {
+            let mut l = super::layer_textures::at_hit(ctx, mesh, &si, footprint.as_ref(), l);
+            if NORMAL_MAPS {
+                l.coat_normal = super::layer_textures::coat_normal(
+                    ctx,
+                    mesh,
+                    &si,
+                    vertex_ns,
+                    footprint.as_ref(),
+                    material,
+                    &frame,
+                );
+            }
+            Some(l)
+        }
+        other => *other,
+    };
+    let bsdf = SurfaceBsdf::for_hit_with_layers(
+        albedo,
+        metallic_roughness,
+        material,
+        layers.as_ref(),
+        ctx.delta_only,
+        si.front_face,
+    );
     let wo = frame.to_local(si.wo);
     if !bsdf.is_delta() {
         sample_lights::<TEXTURES>(ctx, &si, &frame, wo, &bsdf, path, q);

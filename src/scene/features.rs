@@ -15,8 +15,8 @@ pub struct SceneFeatures {
     pub directional_lights: bool,
     /// At least one light with a finite range.
     pub light_ranges: bool,
-    /// At least one material with a base colour, emissive, metallic-roughness or normal
-    /// texture, or a procedural one.
+    /// At least one material with a base colour, emissive, metallic-roughness, normal or
+    /// KHR_materials layer texture, or a procedural one.
     pub textures: bool,
     /// At least one material with a mirror lobe.
     pub mirrors: bool,
@@ -30,7 +30,8 @@ pub struct SceneFeatures {
     pub single_sided: bool,
     /// At least one material with alphaMode MASK or BLEND (hits need an alpha test).
     pub alpha: bool,
-    /// At least one material with a normal map (hits build tangent frames; implies
+    /// At least one material with a normal map or clear-coat normal map (hits build tangent
+    /// frames; implies
     /// `textures`).
     pub normal_maps: bool,
     /// At least one material with KHR_materials layers (clear coat, sheen, transmission):
@@ -70,11 +71,19 @@ impl SceneFeatures {
                 material.base_color_texture.is_some() || material.emissive_texture.is_some();
             f.textures |= material.procedural.is_some();
             f.textures |= material.metallic_roughness_texture.is_some();
+            f.textures |= super::layers::any_texture(
+                material.clearcoat.as_ref(),
+                material.sheen.as_ref(),
+                material.transmission.as_ref(),
+            );
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
             f.single_sided |= !material.double_sided;
             f.alpha |= material.alpha != super::AlphaMode::Opaque;
-            f.normal_maps |= material.normal_texture.is_some();
+            f.normal_maps |= material.normal_texture.is_some()
+                || material
+                    .clearcoat
+                    .is_some_and(|c| c.normal_texture.is_some());
             f.layered_materials |= material.clearcoat.is_some()
                 || material.sheen.is_some()
                 || material.transmission.is_some();

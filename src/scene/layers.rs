@@ -3,6 +3,7 @@
 //! extension, so such materials shade exactly as before (see
 //! [`crate::bsdf::layered`] for the BSDF they become).
 
+use super::{NormalTextureRef, TextureRef};
 use glam::Vec3;
 
 /// KHR_materials_clearcoat.
@@ -12,6 +13,13 @@ pub struct Clearcoat {
     pub factor: f32,
     /// `clearcoatRoughnessFactor` in [0, 1] (perceptual; α = roughness²).
     pub roughness: f32,
+    /// `clearcoatTexture` (linear): its red channel multiplies `factor`.
+    pub texture: Option<TextureRef>,
+    /// `clearcoatRoughnessTexture` (linear): its green channel multiplies `roughness`.
+    pub roughness_texture: Option<TextureRef>,
+    /// `clearcoatNormalTexture` with its `scale`: the coat's own shading normal, in the same
+    /// tangent frame as the base's normal map (see [`crate::material::normal_map`]).
+    pub normal_texture: Option<NormalTextureRef>,
 }
 
 /// KHR_materials_sheen.
@@ -21,6 +29,10 @@ pub struct Sheen {
     pub color: Vec3,
     /// `sheenRoughnessFactor` in [0, 1] (perceptual; α = roughness²).
     pub roughness: f32,
+    /// `sheenColorTexture` (sRGB in the file, linear here): its RGB multiplies `color`.
+    pub color_texture: Option<TextureRef>,
+    /// `sheenRoughnessTexture` (linear): its alpha channel multiplies `roughness`.
+    pub roughness_texture: Option<TextureRef>,
 }
 
 /// KHR_materials_transmission.
@@ -28,6 +40,8 @@ pub struct Sheen {
 pub struct Transmission {
     /// `transmissionFactor` in [0, 1]: the share of the dielectric base that transmits.
     pub factor: f32,
+    /// `transmissionTexture` (linear): its red channel multiplies `factor`.
+    pub texture: Option<TextureRef>,
 }
 
 /// KHR_materials_volume: the medium enclosed by the mesh's surface.
@@ -42,6 +56,19 @@ pub struct Volume {
     pub attenuation_color: Vec3,
     /// `attenuationDistance` (scene units, > 0; infinite: no attenuation).
     pub attenuation_distance: f32,
+}
+
+/// Whether any of a material's layers reads a texture (the scene then needs texture lookups
+/// at hits, see [`crate::scene::features`]).
+pub fn any_texture(
+    clearcoat: Option<&Clearcoat>,
+    sheen: Option<&Sheen>,
+    transmission: Option<&Transmission>,
+) -> bool {
+    clearcoat.is_some_and(|c| {
+        c.texture.is_some() || c.roughness_texture.is_some() || c.normal_texture.is_some()
+    }) || sheen.is_some_and(|s| s.color_texture.is_some() || s.roughness_texture.is_some())
+        || transmission.is_some_and(|t| t.texture.is_some())
 }
 
 impl Volume {

@@ -2,14 +2,19 @@
 //! [`Material`](crate::scene::Material).
 //!
 //! Factors are read from the material's extension objects and clamped to their ranges (with
-//! the usual clamping warning). Textures of these extensions are not applied yet: each
-//! material with one gets one warning naming the texture, and the factor alone is used.
+//! the usual clamping warning). Their textures (`clearcoatTexture` R, `clearcoatRoughnessTexture`
+//! G, `sheenColorTexture` RGB, `sheenRoughnessTexture` A, `transmissionTexture` R) are
+//! requested like the core ones and multiply the factors at each hit
+//! (`render::layer_textures`). `clearcoatNormalTexture` (with its `scale`) gives the coat its own shading normal.
 //! Absent or empty extensions leave the fields `None`, so materials without them are
 //! untouched.
 
 use super::limits;
+use super::normal_texture::{RawTransform, TextureSlot};
 use super::source::Origin;
 use crate::scene::layers::{Clearcoat, Sheen, Transmission, Volume};
+use crate::scene::texture_decode::ColorSpace;
+use crate::scene::{NormalTextureRef, TextureRef};
 use ::gltf::json::Value;
 use glam::Vec3;
 
@@ -26,50 +31,111 @@ pub struct Layers {
     pub volume: Option<Volume>,
 }
 
-/// Reads the layer extensions of `material` (`label` names it in warnings).
-pub fn read(
+/// Reads the layer extensions of `material` (`label` names it in warnings). Their textures
+/// go through the loader's `request` (as every material texture does); `texture_count` is the
+/// document's number of textures, against which the extension JSON's indices are checked
+/// (the gltf crate validates only the core schema's).
+pub fn read<R>(
     material: &::gltf::Material<'_>,
     label: &str,
     origin: Origin<'_>,
     warnings: &mut Vec<String>,
-) -> Layers {
+    request: &mut R,
+    texture_count: usize,
+) -> Layers
+where
+    R: FnMut(Option<TextureSlot>, ColorSpace, &str, &str) -> Option<TextureRef>,
+{
     let mut reader = Reader {
         label,
         origin,
         warnings,
     };
+    let mut texture = |reader: &mut Reader<'_, '_>,
+                       ext: &Value,
+                       ext_name: &str,
+                       field: &str,
+                       space: ColorSpace| {
+        let slot = reader.texture_slot(ext, ext_name, field, texture_count)?;
+        request(Some(slot), space, &format!("{ext_name}.{field}"), label)
+    };
     let mut layers = Layers::default();
     if let Some(ext) = material.extension_value("KHR_materials_clearcoat") {
         let ext_name = "KHR_materials_clearcoat";
-        reader.unapplied_textures(
-            ext,
-            ext_name,
-            &[
-                "clearcoatTexture",
-                "clearcoatRoughnessTexture",
-                "clearcoatNormalTexture",
-            ],
-        );
         let factor = reader.number(ext, ext_name, "clearcoatFactor", 0.0, 0.0, 1.0);
         let roughness = reader.number(ext, ext_name, "clearcoatRoughnessFactor", 0.0, 0.0, 1.0);
-        layers.clearcoat = (factor > 0.0).then_some(Clearcoat { factor, roughness });
+        if factor > 0.0 {
+            layers.clearcoat = Some(Clearcoat {
+                factor,
+                roughness,
+                texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "clearcoatTexture",
+                    ColorSpace::Linear,
+                ),
+                roughness_texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "clearcoatRoughnessTexture",
+                    ColorSpace::Linear,
+                ),
+                normal_texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "clearcoatNormalTexture",
+                    ColorSpace::Linear,
+                )
+                .map(|texture| NormalTextureRef {
+                    texture,
+                    scale: reader.coat_normal_scale(ext),
+                }),
+            });
+        }
     }
     if let Some(ext) = material.extension_value("KHR_materials_sheen") {
         let ext_name = "KHR_materials_sheen";
-        reader.unapplied_textures(
-            ext,
-            ext_name,
-            &["sheenColorTexture", "sheenRoughnessTexture"],
-        );
         let color = reader.color(ext, ext_name, "sheenColorFactor", Vec3::ZERO);
         let roughness = reader.number(ext, ext_name, "sheenRoughnessFactor", 0.0, 0.0, 1.0);
-        layers.sheen = (color != Vec3::ZERO).then_some(Sheen { color, roughness });
+        if color != Vec3::ZERO {
+            layers.sheen = Some(Sheen {
+                color,
+                roughness,
+                color_texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "sheenColorTexture",
+                    ColorSpace::Srgb,
+                ),
+                roughness_texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "sheenRoughnessTexture",
+                    ColorSpace::Linear,
+                ),
+            });
+        }
     }
     if let Some(ext) = material.extension_value("KHR_materials_transmission") {
         let ext_name = "KHR_materials_transmission";
-        reader.unapplied_textures(ext, ext_name, &["transmissionTexture"]);
         let factor = reader.number(ext, ext_name, "transmissionFactor", 0.0, 0.0, 1.0);
-        layers.transmission = (factor > 0.0).then_some(Transmission { factor });
+        if factor > 0.0 {
+            layers.transmission = Some(Transmission {
+                factor,
+                texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "transmissionTexture",
+                    ColorSpace::Linear,
+                ),
+            });
+        }
     }
     if let Some(ext) = material.extension_value("KHR_materials_volume") {
         let ext_name = "KHR_materials_volume";
@@ -166,37 +232,196 @@ impl Reader<'_, '_> {
         Vec3::from(c)
     }
 
-    /// One warning naming the textures of `fields` the extension object has: glint uses
-    /// their factors only, for now.
-    fn unapplied_textures(&mut self, ext: &Value, ext_name: &str, fields: &[&str]) {
-        let present: Vec<&str> = fields
-            .iter()
-            .copied()
-            .filter(|f| ext.get(*f).is_some())
-            .collect();
-        if present.is_empty() {
-            return;
-        }
-        let coat_normal = if present.contains(&"clearcoatNormalTexture") {
-            "; the coat uses the surface's shading normal"
-        } else {
-            ""
+    /// The textureInfo object `field` of `ext` as a [`TextureSlot`]: `None` when absent, or
+    /// (with a warning) when malformed or naming a texture the file does not have.
+    fn texture_slot(
+        &mut self,
+        ext: &Value,
+        ext_name: &str,
+        field: &str,
+        texture_count: usize,
+    ) -> Option<TextureSlot> {
+        let info = ext.get(field)?;
+        let index = info.get("index").and_then(Value::as_u64);
+        let tex_coord = match info.get("texCoord") {
+            None => Some(0),
+            Some(v) => v.as_u64().and_then(|t| u32::try_from(t).ok()),
         };
-        self.warnings.push(format!(
-            "{}: {}: {ext_name}'s {} not yet applied (glint uses the factors alone{coat_normal})",
-            self.origin.file.display(),
-            self.label,
-            match present.as_slice() {
-                [one] => format!("{one} is"),
-                many => format!("{} are", many.join(", ")),
+        let (Some(index), Some(tex_coord)) = (index, tex_coord) else {
+            self.warnings.push(format!(
+                "{}: {}: {ext_name}.{field} is not a textureInfo (an object with an integer \
+                 \"index\" and optional \"texCoord\"); the texture is ignored and the factor used alone",
+                self.origin.file.display(),
+                self.label
+            ));
+            return None;
+        };
+        let Some(texture) = usize::try_from(index).ok().filter(|&i| i < texture_count) else {
+            self.warnings.push(format!(
+                "{}: {}: {ext_name}.{field} names texture {index}, but the file has {texture_count}; \
+                 the texture is ignored and the factor used alone (fix the index)",
+                self.origin.file.display(),
+                self.label
+            ));
+            return None;
+        };
+        // Same schema as on a core textureInfo; a malformed transform is ignored, as the
+        // gltf crate does for core textures.
+        let transform = info
+            .get("extensions")
+            .and_then(|e| e.get("KHR_texture_transform"))
+            .cloned()
+            .and_then(|value| {
+                serde_json::from_value::<::gltf::json::extensions::texture::TextureTransform>(value)
+                    .ok()
+            })
+            .map(|t| RawTransform {
+                offset: t.offset.0,
+                rotation: t.rotation.0,
+                scale: t.scale.0,
+                tex_coord: t.tex_coord,
+            });
+        Some(TextureSlot {
+            texture,
+            tex_coord,
+            transform,
+        })
+    }
+
+    /// `clearcoatNormalTexture.scale`: 1 when absent; a non-finite or non-number one is
+    /// replaced by 1 with a warning (as for `normalTexture.scale`).
+    fn coat_normal_scale(&mut self, ext: &Value) -> f32 {
+        let Some(v) = ext
+            .get("clearcoatNormalTexture")
+            .and_then(|t| t.get("scale"))
+        else {
+            return 1.0;
+        };
+        match v.as_f64().map(|s| s as f32).filter(|s| s.is_finite()) {
+            Some(s) => s,
+            None => {
+                self.warnings.push(format!(
+                    "{}: {}: KHR_materials_clearcoat.clearcoatNormalTexture.scale is {v}, not a finite number; using 1",
+                    self.origin.file.display(),
+                    self.label
+                ));
+                1.0
             }
-        ));
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::source::SUPPORTED_EXTENSIONS;
+    use super::*;
+    use std::path::Path;
+
+    /// The layers of the first material of `json`, with the texture requests it made
+    /// (texture index, texCoord, colour space) and the warnings.
+    fn read_first(json: &[u8]) -> (Layers, Vec<(usize, u32, ColorSpace)>, Vec<String>) {
+        let gltf = ::gltf::Gltf::from_slice(json).expect("valid glTF");
+        let options = crate::scene::gltf::LoadOptions::default();
+        let origin = Origin {
+            file: Path::new("x.gltf"),
+            base_dir: None,
+            options: &options,
+        };
+        let mut warnings = Vec::new();
+        let mut requests = Vec::new();
+        let mut request = |slot: Option<TextureSlot>, space, _: &str, _: &str| {
+            let slot = slot?;
+            requests.push((slot.texture, slot.tex_coord, space));
+            Some(TextureRef {
+                texture: slot.texture,
+                texcoord: slot.tex_coord as usize,
+                transform: glam::Affine2::IDENTITY,
+            })
+        };
+        let material = gltf.document.materials().next().expect("one material");
+        let count = gltf.document.textures().len();
+        let layers = read(&material, "m", origin, &mut warnings, &mut request, count);
+        (layers, requests, warnings)
+    }
+
+    const TEXTURES: &str = r#""images": [{"uri": "a.png"}],
+        "textures": [{"source": 0}, {"source": 0}, {"source": 0}]"#;
+
+    #[test]
+    fn layer_textures_are_requested_in_their_colour_spaces() {
+        let json = format!(
+            r#"{{"asset": {{"version": "2.0"}}, {TEXTURES},
+            "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_transmission"],
+            "materials": [{{"extensions": {{
+                "KHR_materials_clearcoat": {{"clearcoatFactor": 1, "clearcoatTexture": {{"index": 0}},
+                    "clearcoatRoughnessTexture": {{"index": 1, "texCoord": 1}},
+                "clearcoatNormalTexture": {{"index": 2, "scale": 0.5}}}},
+                "KHR_materials_sheen": {{"sheenColorFactor": [1, 1, 1], "sheenColorTexture": {{"index": 2}},
+                    "sheenRoughnessTexture": {{"index": 2}}}},
+                "KHR_materials_transmission": {{"transmissionFactor": 0.5, "transmissionTexture": {{"index": 1}}}}
+            }}}}]}}"#
+        );
+        let (layers, requests, warnings) = read_first(json.as_bytes());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        use ColorSpace::{Linear, Srgb};
+        assert_eq!(
+            requests,
+            [
+                (0, 0, Linear),
+                (1, 1, Linear),
+                (2, 0, Linear),
+                (2, 0, Srgb),
+                (2, 0, Linear),
+                (1, 0, Linear)
+            ]
+        );
+        let coat = layers.clearcoat.expect("coat");
+        assert_eq!(coat.texture.map(|t| t.texture), Some(0));
+        assert_eq!(
+            coat.roughness_texture.map(|t| (t.texture, t.texcoord)),
+            Some((1, 1))
+        );
+        let normal = coat.normal_texture.expect("coat normal");
+        assert_eq!((normal.texture.texture, normal.scale), (2, 0.5));
+        let sheen = layers.sheen.expect("sheen");
+        assert_eq!(sheen.color_texture.map(|t| t.texture), Some(2));
+        assert_eq!(sheen.roughness_texture.map(|t| t.texture), Some(2));
+        let tr = layers.transmission.expect("transmission");
+        assert_eq!((tr.factor, tr.texture.map(|t| t.texture)), (0.5, Some(1)));
+    }
+
+    #[test]
+    fn bad_layer_textures_are_ignored_with_a_warning() {
+        let json = format!(
+            r#"{{"asset": {{"version": "2.0"}}, {TEXTURES},
+            "extensionsUsed": ["KHR_materials_clearcoat"],
+            "materials": [{{"extensions": {{"KHR_materials_clearcoat": {{"clearcoatFactor": 1,
+                "clearcoatTexture": {{"index": 7}},
+                "clearcoatRoughnessTexture": {{"texCoord": 0}},
+                "clearcoatNormalTexture": {{"index": 0, "scale": "big"}}}}}}}}]}}"#
+        );
+        let (layers, requests, warnings) = read_first(json.as_bytes());
+        assert_eq!(requests, [(0, 0, ColorSpace::Linear)]);
+        let coat = layers.clearcoat.expect("coat");
+        assert_eq!((coat.texture, coat.roughness_texture), (None, None));
+        assert_eq!(coat.normal_texture.map(|n| n.scale), Some(1.0));
+        assert_eq!(warnings.len(), 3, "{warnings:?}");
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.contains("clearcoatTexture names texture 7"))
+        );
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.contains("clearcoatRoughnessTexture is not a textureInfo"))
+        );
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.contains("clearcoatNormalTexture.scale is"))
+        );
+    }
 
     #[test]
     fn the_layer_extensions_are_declared_supported() {

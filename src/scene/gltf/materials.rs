@@ -123,7 +123,14 @@ pub fn load(
             "emissiveStrength",
         );
         let surface = super::alpha::read(&material, &label, origin, &mut clamped);
-        let layers = super::material_layers::read(&material, &label, origin, &mut clamped);
+        let layers = super::material_layers::read(
+            &material,
+            &label,
+            origin,
+            &mut clamped,
+            &mut request,
+            document.textures().len(),
+        );
         materials.push(Material {
             name: material
                 .name()

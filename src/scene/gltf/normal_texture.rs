@@ -117,7 +117,11 @@ pub fn ensure_tangents(
     origin: Origin<'_>,
     warnings: &mut Vec<String>,
 ) {
-    let Some(normal) = materials.get(mesh.material).and_then(|m| m.normal_texture) else {
+    // The base's normal map, else the clear coat's (both share the mesh's tangent frame).
+    let Some(normal) = materials.get(mesh.material).and_then(|m| {
+        m.normal_texture
+            .or(m.clearcoat.and_then(|c| c.normal_texture))
+    }) else {
         return;
     };
     if mesh.tangents.is_some() {

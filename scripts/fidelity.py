@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""Measures glint against the Cycles goldens of ../shared/khronos (the README's fidelity table).
+
+    PY=target/fidelity-venv/bin/python   # python3 -m venv target/fidelity-venv
+    $PY -m pip install numpy openexr      # once
+    $PY scripts/fidelity.py [--spp 64] [--glint target/debug/glint] [MODEL ...]
+
+Each model is rendered as the README's table states:
+    glint render MODEL --env ../shared/env/studio.exr --max-depth 8 --spp 64 --seed 1 \\
+        --threads 2 --width W --height H -o OUT.exr
+with W×H the golden's size, then compared with `cycles.exr` on 8×8 block means:
+  mean        = glint's image mean / Cycles' image mean (all channels),
+  block error = mean |glint block − Cycles block| over all 8×8 blocks and channels,
+                divided by Cycles' image mean.
+Prints one Markdown table row per model (notes left empty) and writes nothing else but the
+renders, into a temporary directory.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+import OpenEXR
+import Imath
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+KHRONOS = os.path.join(ROOT, "..", "shared", "khronos")
+ENV = os.path.join(ROOT, "..", "shared", "env", "studio.exr")
+
+
+def read_rgb(path):
+    f = OpenEXR.InputFile(path)
+    dw = f.header()["dataWindow"]
+    w, h = dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1
+    pt = Imath.PixelType(Imath.PixelType.FLOAT)
+    return np.stack(
+        [np.frombuffer(f.channel(c, pt), np.float32).reshape(h, w) for c in "RGB"], -1
+    ).astype(np.float64)
+
+
+def block_means(img, b=8):
+    h, w = img.shape[0] // b * b, img.shape[1] // b * b
+    return img[:h, :w].reshape(h // b, b, w // b, b, 3).mean(axis=(1, 3))
+
+
+def model_file(name):
+    for sub, ext in (("glTF-Binary", ".glb"), ("glTF", ".gltf")):
+        d = os.path.join(KHRONOS, name, sub)
+        if os.path.isdir(d):
+            files = sorted(f for f in os.listdir(d) if f.endswith(ext))
+            if files:
+                return os.path.join(d, files[0])
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--glint", default=os.path.join(ROOT, "target", "debug", "glint"))
+    ap.add_argument("--golden", default=None,
+                    help="compare against this EXR instead of cycles.exr; {model} is replaced "
+                         "by the model's name (e.g. a Cycles variant rendered for a check)")
+    ap.add_argument("models", nargs="*")
+    args = ap.parse_args()
+    names = args.models or sorted(
+        n for n in os.listdir(KHRONOS) if os.path.isfile(os.path.join(KHRONOS, n, "cycles.exr"))
+    )
+    print("| model | mean | block error |")
+    print("|---|---|---|")
+    with tempfile.TemporaryDirectory(prefix="glint-fidelity-") as tmp:
+        for name in names:
+            model = model_file(name)
+            golden_path = (args.golden.replace("{model}", name) if args.golden
+                           else os.path.join(KHRONOS, name, "cycles.exr"))
+            golden = read_rgb(golden_path)
+            h, w = golden.shape[:2]
+            out = os.path.join(tmp, name + ".exr")
+            cmd = [args.glint, "render", model, "--env", ENV, "--max-depth", "8",
+                   "--spp", str(args.spp), "--seed", "1", "--threads", "2",
+                   "--width", str(w), "--height", str(h), "-q", "-o", out]
+            t = time.time()
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            if r.returncode != 0:
+                print(f"| {name} | failed | {r.stderr.strip().splitlines()[-1:]} |", flush=True)
+                continue
+            img = read_rgb(out)
+            if img.shape != golden.shape:
+                print(f"| {name} | size {img.shape[1]}×{img.shape[0]} ≠ golden {w}×{h} | |", flush=True)
+                continue
+            cm = golden.mean()
+            ratio = img.mean() / cm
+            err = np.abs(block_means(img) - block_means(golden)).mean() / cm
+            print(f"| {name} | {ratio:.3f} | {100 * err:.1f} % |", flush=True)
+            print(f"{name}: {time.time() - t:.0f} s", file=sys.stderr, flush=True)
+
+
+if __name__ == "__main__":
+    main()
