@@ -63,12 +63,12 @@ def read_rgb(path):
     """Linear RGB of an EXR as a float64 H×W×3 array."""
     with OpenEXR.File(path) as f:
         channels = f.channels()
-        if "RGB" in channels:
-            rgb = np.asarray(channels["RGB"].pixels, dtype=np.float64)
-        else:
-            rgb = np.stack([np.asarray(channels[c].pixels, dtype=np.float64)
-                            for c in ("R", "G", "B")], axis=-1)
-    return rgb[..., :3]
+        # OpenEXR's Python API groups R, G, B (and A: glint writes coverage) into one entry.
+        for name in ("RGB", "RGBA"):
+            if name in channels:
+                return np.asarray(channels[name].pixels, dtype=np.float64)[..., :3]
+        return np.stack([np.asarray(channels[c].pixels, dtype=np.float64)
+                         for c in ("R", "G", "B")], axis=-1)
 
 
 def timed(cmd):
@@ -193,8 +193,21 @@ def measure(rows):
 
 
 def spp_for(m, rel):
-    a, b = m["err_fit"]  # ln rel = a + b ln spp
-    return math.exp((math.log(rel) - a) / b)
+    """The spp at which renderer m reaches relMSE rel: log-log interpolation between its two
+    measured levels that bracket rel (the nearest two outside the range). Piecewise, not one
+    fitted line, because a few lamp fireflies can dominate the two-seed estimate at low spp."""
+    pts = [(math.log(p["spp"]), math.log(p["rel_mse"])) for p in m["points"]]
+    y = math.log(rel)
+    segments = list(zip(pts, pts[1:]))
+    chosen = segments[0] if y > max(p[1] for p in pts) else segments[-1]
+    for seg in segments:
+        if min(seg[0][1], seg[1][1]) <= y <= max(seg[0][1], seg[1][1]):
+            chosen = seg
+            break
+    (x0, y0), (x1, y1) = chosen
+    if y1 == y0:
+        return float("nan")
+    return math.exp(x0 + (y - y0) * (x1 - x0) / (y1 - y0))
 
 
 def table(args):
@@ -229,9 +242,9 @@ def table(args):
     print("\nEqual error: for the relMSE Cycles reaches at each spp, the spp glint needs (from its"
           " error line) and each renderer's sampling cost for it (b·spp, fixed costs excluded) and"
           " total (a + b·spp); speed-up = Cycles' time / glint's.\n")
-    print("| model | Cycles spp | relMSE | glint spp | speed-up, CPU per spp | speed-up, render"
-          " timer per spp | speed-up, CPU incl. fixed | speed-up, render incl. fixed |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| model | Cycles spp | relMSE | glint spp | speed-up, CPU per spp | speed-up, CPU incl."
+          " fixed | speed-up, render timer (wall) per spp |")
+    print("|---|---|---|---|---|---|---|")
     for model in models:
         c, g = res.get((model, "cycles")), res.get((model, "glint"))
         if not (c and g):
@@ -239,7 +252,7 @@ def table(args):
         for p in c["points"]:
             n = spp_for(g, p["rel_mse"])
             cells = []
-            for k, incl in (("cpu", False), ("render", False), ("cpu", True), ("render", True)):
+            for k, incl in (("cpu", False), ("cpu", True), ("render", False)):
                 (ca, cb), (ga, gb) = c["fits"][k], g["fits"][k]
                 tc = cb * p["spp"] + (ca if incl else 0.0)
                 tg = gb * n + (ga if incl else 0.0)

@@ -33,8 +33,10 @@ EPS = 1e-2
 def read_rgb(path):
     with OpenEXR.File(path) as f:
         ch = f.channels()
-        if "RGB" in ch:
-            return np.asarray(ch["RGB"].pixels, dtype=np.float64)[..., :3]
+        # OpenEXR's Python API groups R, G, B (and A: glint writes coverage) into one entry.
+        for name in ("RGB", "RGBA"):
+            if name in ch:
+                return np.asarray(ch[name].pixels, dtype=np.float64)[..., :3]
         return np.stack([np.asarray(ch[c].pixels, dtype=np.float64) for c in "RGB"], axis=-1)
 
 
