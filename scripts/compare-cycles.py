@@ -17,8 +17,9 @@ Renders each model with both renderers at several spp and two seeds, under the s
   levels of each renderer and model: b is the cost per sample per pixel, a the fixed cost
   (load, import, sync, BVH) that that timer includes.
 * equal error: the time each renderer needs for the relMSE Cycles reaches at each measured spp.
-  log relMSE is fitted against log spp per renderer (a line through the measured points); glint's
-  spp for Cycles' error is read off that line, and its time from the time line.
+  glint's spp for Cycles' error is interpolated in log-log between glint's two measured levels
+  that bracket it (the nearest two outside the range), its time read from the time line. The
+  fitted error slope is printed too, as a check on 1/spp convergence.
 
 Usage (from the repository root; the venv needs bpy, numpy, OpenEXR):
 
@@ -239,8 +240,8 @@ def table(args):
             print(f"| {model} | {m['size'][0]}×{m['size'][1]} | {ren} | {m['err_fit'][1]:.3f} "
                   f"| {f['cpu'][0]:.2f} | {f['cpu'][1]:.4f} | {f['render'][0]:.2f} "
                   f"| {f['render'][1]:.4f} |")
-    print("\nEqual error: for the relMSE Cycles reaches at each spp, the spp glint needs (from its"
-          " error line) and each renderer's sampling cost for it (b·spp, fixed costs excluded) and"
+    print("\nEqual error: for the relMSE Cycles reaches at each spp, the spp glint needs (log-log"
+          " interpolation) and each renderer's sampling cost for it (b·spp, fixed costs excluded) and"
           " total (a + b·spp); speed-up = Cycles' time / glint's.\n")
     print("| model | Cycles spp | relMSE | glint spp | speed-up, CPU per spp | speed-up, CPU incl."
           " fixed | speed-up, render timer (wall) per spp |")
