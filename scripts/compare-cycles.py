@@ -1,0 +1,290 @@
+#!/usr/bin/env python3
+"""glint's path tracer against Blender Cycles at equal error (issue 12's speed table).
+
+Renders each model with both renderers at several spp and two seeds, under the studio HDRI with
+8 bounces, the same thread count and size, a 1-pixel box filter on both sides, and measures:
+
+* error: each renderer against ITSELF. Two renders a, b of the same spp with independent seeds
+  give an unbiased estimate of the variance of one render, (a − b)²/2 per pixel and channel, so no
+  reference image is needed. It is normalised as `glint converge` does (relMSE =
+  mean of err / (r² + 0.01)), with r the renderer's own highest-spp image (mean of its two seeds).
+  For an unbiased renderer this is the expected relMSE of one image against its converged limit.
+* time: wall and CPU (user + sys of the whole process, from /usr/bin/time), and the renderer's
+  own render time: Cycles' `render_s` (bpy.ops.render.render(): scene sync, BVH build, texture
+  load and sampling; Python start-up, `import bpy` and the glTF import excluded) and glint's
+  "rendered in" time (sampling only; load, BVH and MIP chains excluded).
+  Fixed costs are separated from sampling by a least-squares line t = a + b·spp over the spp
+  levels of each renderer and model: b is the cost per sample per pixel, a the fixed cost
+  (load, import, sync, BVH) that that timer includes.
+* equal error: the time each renderer needs for the relMSE Cycles reaches at each measured spp.
+  glint's spp for Cycles' error is interpolated in log-log between glint's two measured levels
+  that bracket it (the nearest two outside the range), its time read from the time line. The
+  fitted error slope is printed too, as a check on 1/spp convergence.
+
+Usage (from the repository root; the venv needs bpy, numpy, OpenEXR):
+
+    /work/bpyvenv/bin/python scripts/compare-cycles.py run --out /tmp/speed [--models ...]
+    /work/bpyvenv/bin/python scripts/compare-cycles.py table --out /tmp/speed > table.md
+
+`run` appends one CSV row per render to OUT/runs.csv and skips renders whose row exists, so it
+can be interrupted and resumed. `table` prints the Markdown tables of the README.
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import OpenEXR
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHARED = os.path.normpath(os.path.join(ROOT, "..", "shared"))
+KHRONOS = os.path.join(SHARED, "khronos")
+
+MODELS = {
+    "MetalRoughSpheresNoTextures": os.path.join(
+        KHRONOS, "MetalRoughSpheresNoTextures/glTF-Binary/MetalRoughSpheresNoTextures.glb"),
+    "NormalTangentMirrorTest": os.path.join(
+        KHRONOS, "NormalTangentMirrorTest/glTF-Binary/NormalTangentMirrorTest.glb"),
+    "DamagedHelmet": os.path.join(SHARED, "scenes/DamagedHelmet/glTF/DamagedHelmet.gltf"),
+    "GlassVaseFlowers": os.path.join(KHRONOS, "GlassVaseFlowers/glTF-Binary/GlassVaseFlowers.glb"),
+    "Duck": os.path.join(KHRONOS, "Duck/glTF-Binary/Duck.glb"),
+}
+FIELDS = ["model", "renderer", "spp", "seed", "width", "height", "wall_s", "cpu_s", "render_s",
+          "image"]
+REL_MSE_EPSILON = 1e-2
+
+
+def read_rgb(path):
+    """Linear RGB of an EXR as a float64 H×W×3 array."""
+    with OpenEXR.File(path) as f:
+        channels = f.channels()
+        # OpenEXR's Python API groups R, G, B (and A: glint writes coverage) into one entry.
+        for name in ("RGB", "RGBA"):
+            if name in channels:
+                return np.asarray(channels[name].pixels, dtype=np.float64)[..., :3]
+        return np.stack([np.asarray(channels[c].pixels, dtype=np.float64)
+                         for c in ("R", "G", "B")], axis=-1)
+
+
+def timed(cmd):
+    """Runs cmd under /usr/bin/time; returns (stdout, stderr, wall s, user + sys CPU s)."""
+    tfile = "/tmp/compare-cycles-time.txt"
+    p = subprocess.run(["/usr/bin/time", "-f", "%e %U %S", "-o", tfile] + cmd,
+                       capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stderr[-3000:]}")
+    with open(tfile) as f:
+        wall, user, sys_ = (float(x) for x in f.read().split()[-3:])
+    return p.stdout, p.stderr, wall, user + sys_
+
+
+def render_cycles(args, model, spp, seed, image):
+    cmd = [args.python, os.path.join(SHARED, "peers/cycles_render.py"), MODELS[model], image,
+           "--materials", "native", "--env", os.path.join(SHARED, "env/studio.exr"),
+           "--env-strength", "1", "--bounces", "8", "--animation", "off",
+           "--width", str(args.width), "--height", str(args.width), "--spp", str(spp),
+           "--threads", str(args.threads), "--seed", str(seed)]
+    out, _, wall, cpu = timed(cmd)
+    info = json.loads(out.strip().splitlines()[-1])
+    return wall, cpu, info["render_s"]
+
+
+def render_glint(args, model, spp, seed, image, width, height):
+    cmd = [args.glint, "render", MODELS[model], "-o", image, "--threads", str(args.threads),
+           "--env", os.path.join(SHARED, "env/studio.exr"), "--max-depth", "8",
+           "--integrator", "path", "--filter", "box", "--spp", str(spp), "--seed", str(seed),
+           "--width", str(width), "--height", str(height)]
+    _, err, wall, cpu = timed(cmd)
+    m = re.search(r"rendered in ([0-9.]+) s", err)
+    if not m:
+        sys.exit(f"no render time in glint's output:\n{err[-2000:]}")
+    return wall, cpu, float(m.group(1))
+
+
+def load_rows(out):
+    path = os.path.join(out, "runs.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def run(args):
+    os.makedirs(args.out, exist_ok=True)
+    path = os.path.join(args.out, "runs.csv")
+    done = {(r["model"], r["renderer"], r["spp"], r["seed"]) for r in load_rows(args.out)}
+    new = not os.path.exists(path)
+    with open(path, "a", newline="") as f:
+        w = csv.DictWriter(f, FIELDS)
+        if new:
+            w.writeheader()
+        for model in args.models:
+            for renderer in args.renderers:
+                spps = args.cycles_spp if renderer == "cycles" else args.glint_spp
+                for spp in spps:
+                    for seed in range(args.seeds):
+                        if (model, renderer, str(spp), str(seed)) in done:
+                            continue
+                        image = os.path.join(args.out, f"{model}-{renderer}-{spp}-{seed}.exr")
+                        if renderer == "cycles":
+                            wall, cpu, render_s = render_cycles(args, model, spp, seed, image)
+                        else:
+                            size = cycles_size(args.out, model)
+                            if size is None:
+                                sys.exit(f"{model}: render Cycles first (its image gives the size)")
+                            wall, cpu, render_s = render_glint(args, model, spp, seed, image,
+                                                               *size)
+                        h, wdt = read_rgb(image).shape[:2]
+                        row = dict(model=model, renderer=renderer, spp=spp, seed=seed, width=wdt,
+                                   height=h, wall_s=wall, cpu_s=cpu, render_s=render_s,
+                                   image=image)
+                        w.writerow(row)
+                        f.flush()
+                        print(json.dumps(row), file=sys.stderr)
+
+
+def cycles_size(out, model):
+    for r in load_rows(out):
+        if r["model"] == model and r["renderer"] == "cycles":
+            return int(r["width"]), int(r["height"])
+    return None
+
+
+def line_fit(xs, ys):
+    """Least-squares (intercept, slope) of y against x."""
+    xs, ys = np.asarray(xs, float), np.asarray(ys, float)
+    slope, intercept = np.polyfit(xs, ys, 1)
+    return intercept, slope
+
+
+def measure(rows):
+    """Per (model, renderer): spp levels with relMSE and median times, and the fitted lines."""
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["model"], r["renderer"]), {}).setdefault(int(r["spp"]), []).append(r)
+    result = {}
+    for key, by_spp in groups.items():
+        levels = sorted(s for s, rs in by_spp.items() if len(rs) >= 2)
+        if len(levels) < 2:
+            continue
+        top = by_spp[levels[-1]]
+        ref = (read_rgb(top[0]["image"]) + read_rgb(top[1]["image"])) / 2
+        points = []
+        for spp in levels:
+            rs = sorted(by_spp[spp], key=lambda r: int(r["seed"]))
+            a, b = read_rgb(rs[0]["image"]), read_rgb(rs[1]["image"])
+            var = (a - b) ** 2 / 2
+            rel = float(np.mean(var / (ref ** 2 + REL_MSE_EPSILON)))
+            med = lambda k: float(np.median([float(r[k]) for r in rs]))  # noqa: E731
+            points.append(dict(spp=spp, rel_mse=rel, wall=med("wall_s"), cpu=med("cpu_s"),
+                               render=med("render_s")))
+        err_fit = line_fit([math.log(p["spp"]) for p in points],
+                           [math.log(p["rel_mse"]) for p in points])
+        fits = {k: line_fit([p["spp"] for p in points], [p[k] for p in points])
+                for k in ("wall", "cpu", "render")}
+        result[key] = dict(points=points, err_fit=err_fit, fits=fits,
+                           size=(top[0]["width"], top[0]["height"]))
+    return result
+
+
+def spp_for(m, rel):
+    """The spp at which renderer m reaches relMSE rel: log-log interpolation between its two
+    measured levels that bracket rel (the nearest two outside the range). Piecewise, not one
+    fitted line, because a few lamp fireflies can dominate the two-seed estimate at low spp."""
+    pts = [(math.log(p["spp"]), math.log(p["rel_mse"])) for p in m["points"]]
+    y = math.log(rel)
+    segments = list(zip(pts, pts[1:]))
+    chosen = segments[0] if y > max(p[1] for p in pts) else segments[-1]
+    for seg in segments:
+        if min(seg[0][1], seg[1][1]) <= y <= max(seg[0][1], seg[1][1]):
+            chosen = seg
+            break
+    (x0, y0), (x1, y1) = chosen
+    if y1 == y0:
+        return float("nan")
+    return math.exp(x0 + (y - y0) * (x1 - x0) / (y1 - y0))
+
+
+def table(args):
+    res = measure(load_rows(args.out))
+    models = sorted({k[0] for k in res})
+    print("Per renderer and model: relMSE of one render against its own converged image (two-seed"
+          " estimate), and median times of the two seeds (s).\n")
+    print("| model | renderer | spp | relMSE | render s | CPU s (process) | wall s (process) |")
+    print("|---|---|---|---|---|---|---|")
+    for model in models:
+        for ren in ("cycles", "glint"):
+            m = res.get((model, ren))
+            if not m:
+                continue
+            for p in m["points"]:
+                print(f"| {model} | {ren} | {p['spp']} | {p['rel_mse']:.4g} | {p['render']:.2f} "
+                      f"| {p['cpu']:.2f} | {p['wall']:.2f} |")
+    print("\nFitted lines: error slope (d ln relMSE / d ln spp), fixed cost a and cost per spp b of"
+          " t = a + b·spp (CPU s of the whole process; render s of the renderer's own timer).\n")
+    print("| model | size | renderer | error slope | CPU a | CPU b (per spp) | render a |"
+          " render b (per spp) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for model in models:
+        for ren in ("cycles", "glint"):
+            m = res.get((model, ren))
+            if not m:
+                continue
+            f = m["fits"]
+            print(f"| {model} | {m['size'][0]}×{m['size'][1]} | {ren} | {m['err_fit'][1]:.3f} "
+                  f"| {f['cpu'][0]:.2f} | {f['cpu'][1]:.4f} | {f['render'][0]:.2f} "
+                  f"| {f['render'][1]:.4f} |")
+    print("\nEqual error: for the relMSE Cycles reaches at each spp, the spp glint needs (log-log"
+          " interpolation) and each renderer's sampling cost for it (b·spp, fixed costs excluded) and"
+          " total (a + b·spp); speed-up = Cycles' time / glint's.\n")
+    print("| model | Cycles spp | relMSE | glint spp | speed-up, CPU per spp | speed-up, CPU incl."
+          " fixed | speed-up, render timer (wall) per spp |")
+    print("|---|---|---|---|---|---|---|")
+    for model in models:
+        c, g = res.get((model, "cycles")), res.get((model, "glint"))
+        if not (c and g):
+            continue
+        for p in c["points"]:
+            n = spp_for(g, p["rel_mse"])
+            cells = []
+            for k, incl in (("cpu", False), ("cpu", True), ("render", False)):
+                (ca, cb), (ga, gb) = c["fits"][k], g["fits"][k]
+                tc = cb * p["spp"] + (ca if incl else 0.0)
+                tg = gb * n + (ga if incl else 0.0)
+                cells.append(f"{tc / tg:.2f}×")
+            print(f"| {model} | {p['spp']} | {p['rel_mse']:.4g} | {n:.0f} | " + " | ".join(cells)
+                  + " |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("command", choices=["run", "table"])
+    ap.add_argument("--out", required=True, help="folder for the renders and runs.csv")
+    ap.add_argument("--models", nargs="+", default=list(MODELS)[:4], choices=list(MODELS))
+    ap.add_argument("--renderers", nargs="+", default=["cycles", "glint"],
+                    choices=["cycles", "glint"])
+    ap.add_argument("--cycles-spp", nargs="+", type=int, default=[16, 64, 256])
+    ap.add_argument("--glint-spp", nargs="+", type=int, default=[16, 64, 256])
+    ap.add_argument("--seeds", type=int, default=2, help="seeds per spp (the first two give the"
+                    " error; every one's time enters the median)")
+    ap.add_argument("--width", type=int, default=320)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--glint", default=os.path.join(ROOT, "target/release/glint"))
+    ap.add_argument("--python", default="/work/bpyvenv/bin/python",
+                    help="Python with bpy for the Cycles side")
+    args = ap.parse_args()
+    if args.command == "run":
+        run(args)
+    else:
+        table(args)
+
+
+if __name__ == "__main__":
+    main()
