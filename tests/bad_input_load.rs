@@ -343,7 +343,8 @@ fn used_but_unsupported_extension_is_a_warning() {
 }
 
 /// Malformed layer factors fall back to their defaults with a warning naming the material,
-/// the extension and the field; out-of-range ones are clamped; an unapplied texture is named.
+/// the extension and the field; out-of-range ones are clamped; a texture index the file lacks
+/// is named and ignored.
 #[test]
 fn bad_material_layer_fields_are_warned_about() {
     let (fixture, mut rest) = triangle_fixture();
@@ -366,7 +367,7 @@ fn bad_material_layer_fields_are_warned_about() {
         "coated",
         "KHR_materials_clearcoat.clearcoatFactor is 7, outside [0, 1]; clamped to 1",
         "KHR_materials_clearcoat.clearcoatRoughnessFactor is not a number",
-        "clearcoatNormalTexture is not yet applied",
+        "clearcoatNormalTexture names texture 0, but the file has 0; the texture is ignored",
         "KHR_materials_sheen.sheenColorFactor is not an array of three numbers",
     ] {
         assert!(all.contains(part), "no {part:?} in:\n{all}");
