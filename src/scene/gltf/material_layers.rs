@@ -10,7 +10,7 @@
 //! untouched.
 
 use super::limits;
-use super::normal_texture::{RawTransform, TextureSlot};
+use super::normal_texture::TextureSlot;
 use super::source::Origin;
 use crate::scene::layers::{Clearcoat, Sheen, Transmission, Volume};
 use crate::scene::texture_decode::ColorSpace;
@@ -267,20 +267,10 @@ impl Reader<'_, '_> {
         };
         // Same schema as on a core textureInfo; a malformed transform is ignored, as the
         // gltf crate does for core textures.
-        let transform = info
-            .get("extensions")
-            .and_then(|e| e.get("KHR_texture_transform"))
-            .cloned()
-            .and_then(|value| {
-                serde_json::from_value::<::gltf::json::extensions::texture::TextureTransform>(value)
-                    .ok()
-            })
-            .map(|t| RawTransform {
-                offset: t.offset.0,
-                rotation: t.rotation.0,
-                scale: t.scale.0,
-                tex_coord: t.tex_coord,
-            });
+        let transform = super::normal_texture::raw_transform(
+            info.get("extensions")
+                .and_then(|e| e.get("KHR_texture_transform")),
+        );
         Some(TextureSlot {
             texture,
             tex_coord,

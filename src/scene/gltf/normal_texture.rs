@@ -50,24 +50,28 @@ impl From<::gltf::texture::Info<'_>> for TextureSlot {
     }
 }
 
+/// A KHR_texture_transform object kept as raw JSON (the gltf crate parses it only on core
+/// textureInfos), parsed with the crate's own schema; `None` when absent or malformed (the
+/// crate ignores a malformed one on core textures too).
+pub(super) fn raw_transform(value: Option<&serde_json::Value>) -> Option<RawTransform> {
+    let t = serde_json::from_value::<::gltf::json::extensions::texture::TextureTransform>(
+        value?.clone(),
+    )
+    .ok()?;
+    Some(RawTransform {
+        offset: t.offset.0,
+        rotation: t.rotation.0,
+        scale: t.scale.0,
+        tex_coord: t.tex_coord,
+    })
+}
+
 impl From<::gltf::material::NormalTexture<'_>> for TextureSlot {
     fn from(normal: ::gltf::material::NormalTexture<'_>) -> Self {
         // The crate keeps this extension of a normalTextureInfo as raw JSON; it has the same
         // schema as on any textureInfo. A malformed one is ignored like a missing one (the
         // crate does the same for textureInfo).
-        let transform = normal
-            .extension_value("KHR_texture_transform")
-            .cloned()
-            .and_then(|value| {
-                serde_json::from_value::<::gltf::json::extensions::texture::TextureTransform>(value)
-                    .ok()
-            })
-            .map(|t| RawTransform {
-                offset: t.offset.0,
-                rotation: t.rotation.0,
-                scale: t.scale.0,
-                tex_coord: t.tex_coord,
-            });
+        let transform = raw_transform(normal.extension_value("KHR_texture_transform"));
         Self {
             texture: normal.texture().index(),
             tex_coord: normal.tex_coord(),
