@@ -47,6 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         positions: &positions,
         indices: &indices,
         two_sided: false,
+        instances: &[],
     };
     let radiance = |_: u32, t: u32| le[t as usize];
     // Area sampling only here, so that the selectors are compared alone; the solid-angle
@@ -163,6 +164,7 @@ fn near_emitters(n: usize) -> Result<(), Box<dyn std::error::Error>> {
             positions: &positions,
             indices: &indices,
             two_sided: false,
+            instances: &[],
         };
         let mut stats = [(0.0f64, 0.0f64); 2];
         for (k, solid) in [false, true].into_iter().enumerate() {

@@ -26,6 +26,8 @@
 
 #include <math.h>
 #include <stdatomic.h>
+#include <stdbool.h>
+#include <sys/types.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,6 +70,7 @@ typedef struct error_slot {
 } error_slot;
 
 static _Atomic int64_t live_handles = 0;
+static _Atomic int64_t memory_bytes = 0;
 static _Thread_local char creation_error[256];
 static _Thread_local error_slot thread_error;
 
@@ -76,6 +79,17 @@ int glint_embree_major(void) { return GLINT_EMBREE_MAJOR; }
 const char *glint_embree_version(void) { return RTC_VERSION_STRING; }
 
 int64_t glint_live_handles(void) { return atomic_load(&live_handles); }
+
+int64_t glint_memory_bytes(void) { return atomic_load(&memory_bytes); }
+
+/* Embree reports every allocation (bytes > 0, before it happens) and release (bytes < 0, after);
+ * glint only counts them and never refuses one. */
+static bool on_memory(void *user, ssize_t bytes, bool post) {
+    (void)user;
+    (void)post;
+    atomic_fetch_add(&memory_bytes, (int64_t)bytes);
+    return true;
+}
 
 void glint_set_denormal_modes(void) {
 #ifdef GLINT_X86
@@ -109,6 +123,7 @@ glint_device *glint_device_new(const char *config) {
         return NULL;
     }
     rtcSetDeviceErrorFunction(d->device, on_error, d);
+    rtcSetDeviceMemoryMonitorFunction(d->device, on_memory, NULL);
     atomic_fetch_add(&live_handles, 1);
     return d;
 }
@@ -122,6 +137,7 @@ void glint_device_free(glint_device *d) {
     /* Scenes still alive hold their own RTCDevice reference; the callback is removed so a late
      * error is never tagged with this freed handle. */
     rtcSetDeviceErrorFunction(d->device, NULL, NULL);
+    rtcSetDeviceMemoryMonitorFunction(d->device, NULL, NULL);
     rtcReleaseDevice(d->device);
     free(d);
     atomic_fetch_sub(&live_handles, 1);
@@ -198,6 +214,23 @@ int64_t glint_scene_add_triangles(glint_scene *s, const float *positions, size_t
         id = attached == RTC_INVALID_GEOMETRY_ID ? -1 : (int64_t)attached;
     }
     /* The scene holds its own reference once attached. */
+    rtcReleaseGeometry(g);
+    atomic_fetch_sub(&live_handles, 1);
+    return id;
+}
+
+int64_t glint_scene_add_instance(glint_scene *s, const glint_scene *child, const float *xfm) {
+    RTCGeometry g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_INSTANCE);
+    if (g == NULL) {
+        return -1;
+    }
+    atomic_fetch_add(&live_handles, 1);
+    rtcSetGeometryInstancedScene(g, child->scene);
+    rtcSetGeometryTimeStepCount(g, 1);
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(g);
+    unsigned attached = rtcAttachGeometry(s->scene, g);
+    int64_t id = attached == RTC_INVALID_GEOMETRY_ID ? -1 : (int64_t)attached;
     rtcReleaseGeometry(g);
     atomic_fetch_sub(&live_handles, 1);
     return id;
@@ -297,6 +330,7 @@ void glint_intersect1(const glint_scene *s, const glint_ray *rays, glint_hit *hi
         glint_hit *h = &hits[i];
         h->geom_id = p.rh.hit.geomID;
         h->prim_id = p.rh.hit.primID;
+        h->inst_id = p.rh.hit.instID[0];
         h->t = p.rh.ray.tfar;
         h->u = p.rh.hit.u;
         h->v = p.rh.hit.v;
@@ -358,6 +392,7 @@ void glint_intersect8(const glint_scene *s, const glint_ray *rays, glint_hit *hi
             glint_hit *h = &hits[base + k];
             h->geom_id = p.rh.hit.geomID[k];
             h->prim_id = p.rh.hit.primID[k];
+            h->inst_id = p.rh.hit.instID[0][k];
             h->t = p.rh.ray.tfar[k];
             h->u = p.rh.hit.u[k];
             h->v = p.rh.hit.v[k];

@@ -30,8 +30,10 @@ typedef struct glint_ray {
 
 /**
  * The closest hit: t, Embree's barycentrics (u weights vertex 1, v weights vertex 2), the
- * unnormalised geometric normal as Embree reports it, and the geometry and primitive ids.
- * geom_id is GLINT_INVALID_ID on a miss.
+ * unnormalised geometric normal as Embree reports it (in the hit geometry's object space when
+ * an instance was hit), and the geometry and primitive ids. geom_id is GLINT_INVALID_ID on a
+ * miss. inst_id is the instance geometry's id in the top-level scene when the hit is inside an
+ * instance (geom_id then names the geometry inside the instanced scene), else GLINT_INVALID_ID.
  */
 typedef struct glint_hit {
     float t;
@@ -40,6 +42,7 @@ typedef struct glint_hit {
     float ng[3];
     uint32_t geom_id;
     uint32_t prim_id;
+    uint32_t inst_id;
 } glint_hit;
 
 /** Opaque handles. */
@@ -99,6 +102,19 @@ glint_scene *glint_scene_new(glint_device *device, glint_build_quality quality, 
  */
 int64_t glint_scene_add_triangles(glint_scene *scene, const float *positions, size_t vertex_count,
                                   const uint32_t *indices, size_t triangle_count);
+
+/**
+ * Adds an instance of the committed scene child with the affine transform xfm (12 floats: the
+ * 3x4 world-from-object matrix, column-major). child must outlive scene. Returns the geometry
+ * id, or -1 on error (the device's error holds why).
+ */
+int64_t glint_scene_add_instance(glint_scene *scene, const glint_scene *child, const float *xfm);
+
+/**
+ * Bytes Embree currently holds for all devices the shim created, as its memory-monitor callback
+ * reports them (for benchmarks; builds on other threads count too).
+ */
+int64_t glint_memory_bytes(void);
 
 /**
  * Builds the acceleration structure. Returns 0 on success, otherwise the RTCError code the commit

@@ -12,6 +12,8 @@ pub struct OwnedMesh {
     pub positions: Vec<Vec3>,
     /// Three indices per triangle, counter-clockwise seen from outside.
     pub indices: Vec<[u32; 3]>,
+    /// Where it is drawn (empty: once, as given; see [`crate::accel::Placement`]).
+    pub instances: Vec<crate::accel::Placement>,
 }
 
 impl OwnedMesh {
@@ -20,6 +22,7 @@ impl OwnedMesh {
         crate::accel::TriangleMesh {
             positions: &self.positions,
             indices: &self.indices,
+            instances: &self.instances,
         }
     }
 }
@@ -127,7 +130,11 @@ pub fn displaced_sphere(subdivisions: u32, amplitude: f32, seed: u64) -> OwnedMe
     for p in &mut positions {
         *p *= 1.0 + amplitude * rng.random_range(-1.0f32..=1.0);
     }
-    OwnedMesh { positions, indices }
+    OwnedMesh {
+        positions,
+        indices,
+        instances: Vec::new(),
+    }
 }
 
 /// An `n × n` quad grid (2n² triangles) over [−1, 1]² in x–z, heights `amplitude · r` with `r`
@@ -154,7 +161,11 @@ pub fn terrain(n: u32, amplitude: f32, seed: u64) -> OwnedMesh {
             indices.push([b, c, d]);
         }
     }
-    OwnedMesh { positions, indices }
+    OwnedMesh {
+        positions,
+        indices,
+        instances: Vec::new(),
+    }
 }
 
 /// `count` independent triangles with vertices within `size` of a centre uniform in [−1, 1]³.
@@ -178,5 +189,9 @@ pub fn triangle_soup(count: usize, size: f32, seed: u64) -> OwnedMesh {
         let base = (3 * k) as u32;
         indices.push([base, base + 1, base + 2]);
     }
-    OwnedMesh { positions, indices }
+    OwnedMesh {
+        positions,
+        indices,
+        instances: Vec::new(),
+    }
 }

@@ -24,6 +24,7 @@ impl Owned {
             positions: &self.positions,
             indices: &self.indices,
             two_sided: self.two_sided,
+            instances: &[],
         }
     }
 }
@@ -79,7 +80,7 @@ fn estimate(lights: &AreaLights, n: usize, seed: u64) -> ((f64, f64), (f64, f64)
             omega.push(0.0);
             continue;
         };
-        let q = lights.pdf(p, normal, s.mesh, s.triangle, s.point);
+        let q = lights.pdf(p, normal, (s.mesh, s.instance, s.triangle), s.point);
         assert!(
             (q - s.pdf).abs() <= 1e-4 * s.pdf,
             "pdf() {q} vs sample {}",
@@ -213,9 +214,9 @@ fn lights_are_chosen_in_proportion_to_power() {
     assert!((f64::from(lights.total_power()) - total).abs() < 1e-5 * total);
     let index: Vec<usize> = expected_power
         .iter()
-        .map(|&(m, t, _)| lights.light_index(m, t).unwrap())
+        .map(|&(m, t, _)| lights.light_index(m, 0, t).unwrap())
         .collect();
-    assert!(lights.light_index(1, 0).is_none());
+    assert!(lights.light_index(1, 0, 0).is_none());
     let p = Vec3::new(1.0, 3.0, 1.0);
     for (k, &(_, _, power)) in expected_power.iter().enumerate() {
         let pmf = f64::from(lights.selection_pmf(p, Vec3::ZERO, index[k]));
@@ -260,7 +261,7 @@ fn one_sided_lights_emit_from_the_front_only() {
         );
     }
     assert_eq!(
-        lights.pdf(above, Vec3::ZERO, 0, 0, Vec3::new(0.1, 1.0, 0.1)),
+        lights.pdf(above, Vec3::ZERO, (0, 0, 0), Vec3::new(0.1, 1.0, 0.1)),
         0.0
     );
     let mut both = rectangle(1.0, 1.0, 1.0);
@@ -270,7 +271,7 @@ fn one_sided_lights_emit_from_the_front_only() {
         .sample(above, Vec3::ZERO, 0.3, Vec2::new(0.2, 0.7))
         .unwrap();
     assert!(s.wi.y < 0.0 && s.normal.y < 0.0);
-    assert!(lights.pdf(above, Vec3::ZERO, s.mesh, s.triangle, s.point) > 0.0);
+    assert!(lights.pdf(above, Vec3::ZERO, (s.mesh, s.instance, s.triangle), s.point) > 0.0);
 }
 
 #[test]

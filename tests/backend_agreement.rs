@@ -243,6 +243,7 @@ fn interval_ends_and_hit_attributes_agree() {
     let mesh = [TriangleMesh {
         positions: &positions,
         indices: &indices,
+        instances: &[],
     }];
     let origin = Vec3::new(0.25, 0.5, 2.0);
     let dir = Vec3::new(0.0, 0.0, -1.0);
@@ -387,6 +388,7 @@ fn near_hits_tiny_scales_and_signed_zero_directions() {
         let mesh = [TriangleMesh {
             positions: &scaled,
             indices: &indices,
+            instances: &[],
         }];
         for &kind in BackendKind::available() {
             let accel = accel::build(kind, &mesh, BuildOptions::default()).expect("build");

@@ -277,6 +277,7 @@ fn invalid_geometry_is_refused_before_any_backend_sees_it() {
         meshes: vec![OwnedMesh {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             indices: vec![[0, 1, 3]],
+            instances: Vec::new(),
         }],
         camera: None,
     };

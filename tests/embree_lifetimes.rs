@@ -78,6 +78,7 @@ fn embree_errors_become_rust_errors() {
     let mesh = [TriangleMesh {
         positions: &positions,
         indices: &indices,
+        instances: &[],
     }];
     let err = glint::accel::build(
         glint::accel::BackendKind::Embree,
@@ -91,6 +92,7 @@ fn embree_errors_become_rust_errors() {
     let mesh = [TriangleMesh {
         positions: &positions[..1],
         indices: &indices,
+        instances: &[],
     }];
     let err = glint::accel::build(
         glint::accel::BackendKind::Bvh,

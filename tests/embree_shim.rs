@@ -23,18 +23,22 @@ fn meshes_without_triangles_keep_ids_dense() {
         TriangleMesh {
             positions: &triangle,
             indices: &indices,
+            instances: &[],
         },
         TriangleMesh {
             positions: &triangle,
             indices: &[],
+            instances: &[],
         },
         TriangleMesh {
             positions: &[],
             indices: &[],
+            instances: &[],
         },
         TriangleMesh {
             positions: &shifted,
             indices: &indices,
+            instances: &[],
         },
     ];
     // +0.0 components on purpose: the bvh backend misses rays whose direction has -0.0 ones

@@ -237,27 +237,30 @@ fn simple_instancing_draws_every_instance_where_its_trs_puts_it() {
     };
     let (t, r, s) = (read("TRANSLATION"), read("ROTATION"), read("SCALE"));
     let primitives = node.mesh().expect("mesh").primitives().len();
-    assert_eq!(
-        scene.meshes.len(),
-        t.len() * primitives,
-        "one copy per instance"
-    );
+    // One object-space mesh per primitive, placed once per instance: memory follows the
+    // unique geometry.
+    assert_eq!(scene.meshes.len(), primitives, "one mesh per primitive");
     let base = load_base_positions(&document, &buffers);
     for (i, mesh) in scene.meshes.iter().enumerate() {
-        let k = i / primitives;
-        let m = Mat4::from_scale_rotation_translation(
-            Vec3::from_slice(&s[k]),
-            Quat::from_slice(&r[k]).normalize(),
-            Vec3::from_slice(&t[k]),
-        );
-        let expected: Vec<Vec3> = base[i % primitives]
-            .iter()
-            .map(|p| m.transform_point3(*p))
-            .collect();
-        for (got, want) in mesh.positions.iter().zip(&expected) {
-            assert!(got.distance(*want) < 1e-4, "instance {k}: {got} vs {want}");
+        assert_eq!(mesh.instances.len(), t.len(), "one placement per instance");
+        assert_eq!(mesh.positions.len(), base[i].len(), "stored once");
+        for (k, placement) in mesh.instances.iter().enumerate() {
+            let m = Mat4::from_scale_rotation_translation(
+                Vec3::from_slice(&s[k]),
+                Quat::from_slice(&r[k]).normalize(),
+                Vec3::from_slice(&t[k]),
+            );
+            assert_eq!(placement.node, Some(node.index() as u32));
+            for (object, want) in mesh.positions.iter().zip(&base[i]) {
+                let (got, want) = (placement.point(*object), m.transform_point3(*want));
+                assert!(got.distance(want) < 1e-4, "instance {k}: {got} vs {want}");
+            }
         }
     }
+    assert_eq!(
+        scene.triangle_count(),
+        scene.unique_triangle_count() * t.len()
+    );
 }
 
 /// Object-space float POSITIONs of the first node's mesh primitives, via the gltf crate.
@@ -763,7 +766,7 @@ fn compressed_ducks_render_like_the_uncompressed_duck() {
 }
 
 #[test]
-fn instancing_that_would_flatten_past_the_limit_is_refused_before_copying() {
+fn instancing_past_the_instance_limit_is_refused_before_reading() {
     let mut fixture = Fixture::new();
     let position = fixture.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
     // No buffer view: glTF defines the data as zeros (plus one sparse value), so a huge count

@@ -167,6 +167,7 @@ fn zeroed_geometry_on_obvhs() {
     let mesh = glint::accel::TriangleMesh {
         positions: &positions,
         indices: &indices,
+        instances: &[],
     };
     let accel = glint::accel::build(glint::accel::BackendKind::Bvh, &[mesh], Default::default())
         .expect("zeroed geometry builds");

@@ -163,8 +163,9 @@ impl Scene {
                 let geom = u32::try_from(i).unwrap_or(u32::MAX);
                 dict.set_item(
                     "node",
-                    glint::render::ids::instance_id(&self.prepared.scene, geom),
+                    glint::render::ids::instance_id(&self.prepared.scene, geom, 0),
                 )?;
+                dict.set_item("copies", mesh.copies())?;
                 dict.set_item("material", mesh.material)?;
                 dict.set_item("triangles", mesh.indices.len())?;
                 Ok(dict)

@@ -8,7 +8,8 @@
 //!   with the lengths passed alongside.
 
 use super::{
-    Accel, AccelError, BackendKind, BuildOptions, BuildQuality, Coherence, Hit, Ray, TriangleMesh,
+    Accel, AccelError, BackendKind, BuildOptions, BuildQuality, Coherence, Hit, Placement, Ray,
+    TriangleMesh,
 };
 use glam::Vec3;
 use std::ffi::CStr;
@@ -126,11 +127,34 @@ fn shared_device() -> Result<Arc<Device>, AccelError> {
     Ok(device)
 }
 
-/// A committed Embree scene of triangle meshes.
+/// Bytes Embree holds for all of glint's devices (its memory-monitor callback's running sum).
+pub fn memory_bytes() -> i64 {
+    // SAFETY: reads an atomic counter.
+    unsafe { ffi::glint_memory_bytes() }
+}
+
+/// A committed Embree scene of triangle meshes: meshes drawn as given are its own geometries;
+/// a mesh with placements is a committed scene of its own ([`EmbreeAccel::children`]), and
+/// each placement an instance geometry of it in this scene.
 pub struct EmbreeAccel {
     raw: NonNull<ffi::glint_scene>,
     device: Arc<Device>,
     triangles: usize,
+    /// What each top-level geometry id names.
+    geometries: Vec<TopGeometry>,
+    /// The instanced scenes. Declared after `raw`'s owner fields and released after it:
+    /// `Drop` frees the top level first, then the fields drop.
+    children: Vec<EmbreeAccel>,
+    /// Embree's bytes for this structure, read from the memory monitor around the build.
+    bytes: i64,
+}
+
+/// One geometry of the top-level scene: the mesh it draws, which placement, and its transform.
+#[derive(Clone, Copy)]
+struct TopGeometry {
+    geom_id: u32,
+    instance: u32,
+    placement: Option<Placement>,
 }
 
 // SAFETY: the scene is committed in `build` and never modified afterwards; Embree documents
@@ -151,6 +175,51 @@ impl EmbreeAccel {
         meshes: &[TriangleMesh<'_>],
         options: BuildOptions,
     ) -> Result<Self, AccelError> {
+        let before = memory_bytes();
+        let mut accel = Self::new_scene(device, options)?;
+        accel.triangles = meshes.iter().map(TriangleMesh::drawn_triangles).sum();
+        for (index, mesh) in meshes.iter().enumerate() {
+            let geom_id = index as u32;
+            if mesh.instances.is_empty() {
+                let id = accel.add_triangles(mesh)?;
+                accel.record(id, index, geom_id, 0, None)?;
+                continue;
+            }
+            let child = Self::new_scene(Arc::clone(&accel.device), options)?;
+            child.add_triangles(mesh)?;
+            child.commit()?;
+            for (instance, placement) in mesh.instances.iter().enumerate() {
+                let m = placement.world_from_object();
+                let (x, y, z, w) = (
+                    m.matrix3.x_axis,
+                    m.matrix3.y_axis,
+                    m.matrix3.z_axis,
+                    m.translation,
+                );
+                let xfm = [x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z, w.x, w.y, w.z];
+                // SAFETY: both scene handles are live, the child is committed and kept alive
+                // in `children` for as long as the top level; xfm holds the 12 floats read.
+                let id = unsafe {
+                    ffi::glint_scene_add_instance(
+                        accel.raw.as_ptr(),
+                        child.raw.as_ptr(),
+                        xfm.as_ptr(),
+                    )
+                };
+                if let Some(err) = accel.device.take_error() {
+                    return Err(err);
+                }
+                accel.record(id, index, geom_id, instance as u32, Some(*placement))?;
+            }
+            accel.children.push(child);
+        }
+        accel.commit()?;
+        accel.bytes = memory_bytes() - before;
+        Ok(accel)
+    }
+
+    /// An empty, uncommitted scene.
+    fn new_scene(device: Arc<Device>, options: BuildOptions) -> Result<Self, AccelError> {
         let quality = match options.quality {
             BuildQuality::Low => ffi::glint_build_quality::GLINT_BUILD_LOW,
             BuildQuality::Medium => ffi::glint_build_quality::GLINT_BUILD_MEDIUM,
@@ -165,39 +234,66 @@ impl EmbreeAccel {
                 .unwrap_or_else(|| AccelError::Device("rtcNewScene failed".into()))
         })?;
         // From here on, Drop releases the scene on every error path.
-        let accel = Self {
+        Ok(Self {
             raw,
             device,
-            triangles: meshes.iter().map(|m| m.indices.len()).sum(),
+            triangles: 0,
+            geometries: Vec::new(),
+            children: Vec::new(),
+            bytes: 0,
+        })
+    }
+
+    /// Adds `mesh`'s triangles as given; returns the geometry id.
+    fn add_triangles(&self, mesh: &TriangleMesh<'_>) -> Result<i64, AccelError> {
+        // SAFETY: Vec3 is three f32s with no padding (glam's Vec3 is #[repr(C)]) and
+        // [u32; 3] is three u32s, so the slices are the packed arrays the shim copies; the
+        // counts passed are those of the slices.
+        let id = unsafe {
+            ffi::glint_scene_add_triangles(
+                self.raw.as_ptr(),
+                mesh.positions.as_ptr().cast::<f32>(),
+                mesh.positions.len(),
+                mesh.indices.as_ptr().cast::<u32>(),
+                mesh.indices.len(),
+            )
         };
-        for (index, mesh) in meshes.iter().enumerate() {
-            // SAFETY: Vec3 is three f32s with no padding (glam's Vec3 is #[repr(C)]) and
-            // [u32; 3] is three u32s, so the slices are the packed arrays the shim copies; the
-            // counts passed are those of the slices.
-            let id = unsafe {
-                ffi::glint_scene_add_triangles(
-                    accel.raw.as_ptr(),
-                    mesh.positions.as_ptr().cast::<f32>(),
-                    mesh.positions.len(),
-                    mesh.indices.as_ptr().cast::<u32>(),
-                    mesh.indices.len(),
-                )
-            };
-            if let Some(err) = accel.device.take_error() {
-                return Err(err);
-            }
-            // Geometry ids are handed out densely from 0 in attach order; the renderer relies
-            // on id == mesh index.
-            if id != index as i64 {
-                return Err(AccelError::InvalidGeometry {
-                    mesh: index,
-                    reason: format!("Embree gave geometry id {id}, expected {index}"),
-                });
-            }
+        match self.device.take_error() {
+            Some(err) => Err(err),
+            None => Ok(id),
         }
+    }
+
+    /// Records what top-level geometry `id` draws. Embree hands ids out densely from 0 in
+    /// attach order, which the table relies on.
+    fn record(
+        &mut self,
+        id: i64,
+        mesh: usize,
+        geom_id: u32,
+        instance: u32,
+        placement: Option<Placement>,
+    ) -> Result<(), AccelError> {
+        let expected = self.geometries.len();
+        if id != expected as i64 {
+            return Err(AccelError::InvalidGeometry {
+                mesh,
+                reason: format!("Embree gave geometry id {id}, expected {expected}"),
+            });
+        }
+        self.geometries.push(TopGeometry {
+            geom_id,
+            instance,
+            placement,
+        });
+        Ok(())
+    }
+
+    /// Builds the scene's acceleration structure.
+    fn commit(&self) -> Result<(), AccelError> {
         // SAFETY: the scene handle is live; commit builds the BVH.
-        let code = unsafe { ffi::glint_scene_commit(accel.raw.as_ptr()) };
-        if let Some(err) = accel.device.take_error() {
+        let code = unsafe { ffi::glint_scene_commit(self.raw.as_ptr()) };
+        if let Some(err) = self.device.take_error() {
             return Err(err);
         }
         if code != 0 {
@@ -206,7 +302,37 @@ impl EmbreeAccel {
                 message: "rtcCommitScene failed".into(),
             });
         }
-        Ok(accel)
+        Ok(())
+    }
+
+    /// The hit a raw answer describes, in glint's ids and world space.
+    #[inline]
+    fn from_raw(&self, hit: &ffi::glint_hit) -> Option<Hit> {
+        if hit.geom_id == ffi::GLINT_INVALID_ID {
+            return None;
+        }
+        let top = if hit.inst_id == ffi::GLINT_INVALID_ID {
+            hit.geom_id
+        } else {
+            hit.inst_id
+        };
+        let entry = self.geometries.get(top as usize)?;
+        // Embree's Ng is (v2 − v0) × (v0 − v1) = (v1 − v0) × (v2 − v0): glTF's side already,
+        // in the object space of an instanced geometry.
+        let ng = Vec3::from_array(hit.ng);
+        let ng = match &entry.placement {
+            Some(placement) => placement.normal(ng),
+            None => ng,
+        };
+        Some(Hit {
+            t: hit.t,
+            geom_id: entry.geom_id,
+            prim_id: hit.prim_id,
+            instance: entry.instance,
+            u: hit.u,
+            v: hit.v,
+            ng: ng.normalize_or_zero(),
+        })
     }
 
     /// Closest hits one ray at a time (`rtcIntersect1`), for comparing against packets.
@@ -236,7 +362,7 @@ impl EmbreeAccel {
         coherence: Coherence,
         query: QueryFn<ffi::glint_hit>,
     ) {
-        self.query_chunked(rays, hits, coherence, query, from_raw);
+        self.query_chunked(rays, hits, coherence, query, |raw| self.from_raw(raw));
     }
 
     fn query_occlusion(
@@ -305,22 +431,6 @@ fn to_raw(ray: &Ray) -> ffi::glint_ray {
     }
 }
 
-#[inline]
-fn from_raw(hit: &ffi::glint_hit) -> Option<Hit> {
-    if hit.geom_id == ffi::GLINT_INVALID_ID {
-        return None;
-    }
-    Some(Hit {
-        t: hit.t,
-        geom_id: hit.geom_id,
-        prim_id: hit.prim_id,
-        u: hit.u,
-        v: hit.v,
-        // Embree's Ng is (v2 − v0) × (v0 − v1) = (v1 − v0) × (v2 − v0): glTF's side already.
-        ng: Vec3::from_array(hit.ng).normalize_or_zero(),
-    })
-}
-
 impl Accel for EmbreeAccel {
     fn kind(&self) -> BackendKind {
         BackendKind::Embree
@@ -331,7 +441,7 @@ impl Accel for EmbreeAccel {
         let mut raw_hit = ffi::glint_hit::default();
         // SAFETY: one ray in, one hit out; the scene is committed.
         unsafe { ffi::glint_intersect1(self.raw.as_ptr(), &raw_ray, &mut raw_hit, 1, 0) };
-        from_raw(&raw_hit)
+        self.from_raw(&raw_hit)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
@@ -352,5 +462,9 @@ impl Accel for EmbreeAccel {
 
     fn triangle_count(&self) -> usize {
         self.triangles
+    }
+
+    fn memory_bytes(&self) -> Option<usize> {
+        usize::try_from(self.bytes).ok()
     }
 }

@@ -6,8 +6,10 @@
 //! Both answer the same two questions over the same triangles: the closest hit in
 //! `[tnear, tfar]`, and whether anything at all lies in `[tnear, tfar]` (shadow rays). Geometry
 //! id `g` is the index of the mesh in the slice given to [`build`]; primitive id `p` is the
-//! triangle's index within that mesh. The geometric normal follows glTF's winding:
-//! `normalize((v1 - v0) × (v2 - v0))`, front face counter-clockwise.
+//! triangle's index within that mesh; for a mesh with [`Placement`]s, [`Hit::instance`] says
+//! which copy was hit. The geometric normal follows glTF's winding, in world space:
+//! `normalize((v1 - v0) × (v2 - v0))`, front face counter-clockwise (for a placed mesh, the
+//! object-space normal carried to world space, so a mirroring placement keeps its front side).
 
 // The one module allowed `unsafe`: the Embree FFI wrapper (the crate denies it elsewhere).
 #[cfg(feature = "embree")]
@@ -15,6 +17,9 @@
 pub mod embree;
 
 pub mod bvh;
+pub mod instance;
+
+pub use instance::Placement;
 
 use glam::Vec3;
 use std::fmt;
@@ -72,22 +77,35 @@ pub struct Hit {
     pub geom_id: u32,
     /// Index of the triangle within that mesh.
     pub prim_id: u32,
+    /// Which of the mesh's placements was hit (0 for a mesh without placements).
+    pub instance: u32,
     /// Barycentric weight of the triangle's second vertex.
     pub u: f32,
     /// Barycentric weight of the triangle's third vertex.
     pub v: f32,
-    /// Unit geometric normal, `normalize((v1 - v0) × (v2 - v0))`.
+    /// Unit geometric normal in world space, `normalize((v1 - v0) × (v2 - v0))` (object-space
+    /// vertices for a placed mesh, the normal then carried to world space).
     pub ng: Vec3,
 }
 
-/// Triangles in world space, borrowed while a backend builds its acceleration structure.
-/// Backends copy what they need; the mesh may be dropped after [`build`].
-#[derive(Clone, Copy, Debug)]
+/// Triangles borrowed while a backend builds its acceleration structure. Backends copy what
+/// they need; the mesh may be dropped after [`build`].
+#[derive(Clone, Copy, Debug, Default)]
 pub struct TriangleMesh<'a> {
-    /// Vertex positions.
+    /// Vertex positions: world space without placements, object space with them.
     pub positions: &'a [Vec3],
     /// Vertex indices, three per triangle.
     pub indices: &'a [[u32; 3]],
+    /// Where the mesh is drawn. Empty: once, as given (world space). Otherwise once per
+    /// placement, from one shared structure (a two-level scene).
+    pub instances: &'a [Placement],
+}
+
+impl TriangleMesh<'_> {
+    /// Triangles drawn: the mesh's count times its copies.
+    pub fn drawn_triangles(&self) -> usize {
+        self.indices.len() * self.instances.len().max(1)
+    }
 }
 
 /// Which backend answers the ray queries. Serialised (bench reports) as its command-line name.
@@ -271,8 +289,14 @@ pub trait Accel: Send + Sync {
         }
     }
 
-    /// Number of triangles in the structure.
+    /// Number of triangles the structure answers for (each placed copy counted).
     fn triangle_count(&self) -> usize;
+
+    /// Bytes the structure holds (nodes, triangles, ids, instance tables), where the backend
+    /// can tell; for benchmarks.
+    fn memory_bytes(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// Builds the chosen backend over `meshes`.

@@ -286,6 +286,7 @@ mod tests {
         let mesh = TriangleMesh {
             positions: &positions,
             indices: &indices,
+            instances: &[],
         };
         let inner = build(BackendKind::Bvh, &[mesh], BuildOptions::default()).unwrap();
         let recorder = RecordingAccel::new(inner.as_ref());

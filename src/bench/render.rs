@@ -257,11 +257,7 @@ pub fn raw_trace(
 fn shadow_ray(scene: &Scene, hit: &Hit, light: &Light) -> Option<Ray> {
     let mesh = scene.meshes.get(hit.geom_id as usize)?;
     let tri = mesh.indices.get(hit.prim_id as usize)?;
-    let [p0, p1, p2] = [
-        *mesh.positions.get(tri[0] as usize)?,
-        *mesh.positions.get(tri[1] as usize)?,
-        *mesh.positions.get(tri[2] as usize)?,
-    ];
+    let [p0, p1, p2] = mesh.world_triangle(hit.instance, *tri)?;
     let (p, err) = triangle_point(p0, p1, p2, hit.u, hit.v);
     Some(match light {
         Light::Point { position, .. } | Light::Spot { position, .. } => {

@@ -421,6 +421,7 @@ fn warm_up_backend(kind: BackendKind, scene: &BenchScene) -> Result<(), BenchErr
     let triangle = [TriangleMesh {
         positions: &positions,
         indices: &indices,
+        instances: &[],
     }];
     Structure::build(kind, &triangle, BuildOptions::default())
         .map(drop)

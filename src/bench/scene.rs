@@ -88,6 +88,7 @@ impl BenchScene {
                 .map(|mesh| OwnedMesh {
                     positions: mesh.positions,
                     indices: mesh.indices,
+                    instances: mesh.instances,
                 })
                 .collect(),
         })
@@ -128,9 +129,12 @@ impl BenchScene {
             .collect()
     }
 
-    /// Total number of triangles.
+    /// Total number of triangles drawn (each placed copy counted).
     pub fn triangle_count(&self) -> usize {
-        self.meshes.iter().map(|m| m.indices.len()).sum()
+        self.meshes
+            .iter()
+            .map(|m| m.as_triangle_mesh().drawn_triangles())
+            .sum()
     }
 }
 

@@ -1,9 +1,10 @@
 //! The surface interaction: everything about a ray hit that shading reads, computed once.
 
 use super::error::triangle_point;
-use crate::accel::Hit;
+use super::float::gamma;
+use crate::accel::{Hit, Placement};
 use crate::scene::Mesh;
-use glam::Vec3;
+use glam::{Mat3A, Vec3, Vec3A, Vec4};
 
 /// A ray hit on a triangle, in world space.
 ///
@@ -27,6 +28,9 @@ pub struct SurfaceInteraction {
     pub barycentrics: [f32; 3],
     /// The triangle's vertex indices.
     pub vertices: [u32; 3],
+    /// The placement of the copy hit, for a mesh stored in object space: its per-vertex
+    /// normals and tangents go to world space through it.
+    pub placement: Option<Placement>,
 }
 
 impl SurfaceInteraction {
@@ -44,6 +48,14 @@ impl SurfaceInteraction {
             *mesh.positions.get(vertices[2] as usize)?,
         ];
         let (p, p_error) = triangle_point(p0, p1, p2, hit.u, hit.v);
+        let placement = match mesh.instances.len() {
+            0 => None,
+            _ => Some(*mesh.placement(hit.instance)?),
+        };
+        let (p, p_error) = match &placement {
+            Some(placement) => transformed_point(placement, p, p_error),
+            None => (p, p_error),
+        };
         let wo = (-ray_dir).normalize_or_zero();
         if !hit.ng.is_finite() || hit.ng == Vec3::ZERO || wo == Vec3::ZERO || !p.is_finite() {
             return None;
@@ -59,7 +71,44 @@ impl SurfaceInteraction {
             front_face,
             barycentrics: [1.0 - hit.u - hit.v, hit.u, hit.v],
             vertices,
+            placement,
         })
+    }
+
+    /// The hit triangle's corners in world space (`None` if an index is out of range).
+    #[inline]
+    pub fn world_triangle(&self, mesh: &Mesh) -> Option<[Vec3; 3]> {
+        let [a, b, c] = self
+            .vertices
+            .map(|i| mesh.positions.get(i as usize).copied());
+        let corners = [a?, b?, c?];
+        Some(match &self.placement {
+            Some(p) => corners.map(|v| p.point(v)),
+            None => corners,
+        })
+    }
+
+    /// An interpolated per-vertex normal (or its derivative) in world space; not normalised.
+    #[inline]
+    pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
+        match &self.placement {
+            Some(placement) => placement.normal(n),
+            None => n,
+        }
+    }
+
+    /// A per-vertex tangent (xyz, handedness w) in world space: xyz through the placement
+    /// (not normalised), w flipped by a mirroring one so that the bitangent `w · n × t`
+    /// follows the surface.
+    #[inline]
+    pub fn tangent_to_world(&self, t: Vec4) -> Vec4 {
+        match &self.placement {
+            Some(placement) => {
+                let w = if placement.mirrored() { -t.w } else { t.w };
+                placement.vector(t.truncate()).extend(w)
+            }
+            None => t,
+        }
     }
 
     /// Interpolates a per-vertex attribute with the hit's barycentrics. `None` if an index is
@@ -82,7 +131,7 @@ impl SurfaceInteraction {
 pub fn shading_normal(si: &SurfaceInteraction, normals: &[Vec3]) -> Vec3 {
     match si.interpolate(normals) {
         Some(n) => {
-            let n = n.normalize_or_zero();
+            let n = si.normal_to_world(n).normalize_or_zero();
             if n == Vec3::ZERO {
                 si.ng
             } else if si.front_face {
@@ -93,6 +142,24 @@ pub fn shading_normal(si: &SurfaceInteraction, normals: &[Vec3]) -> Vec3 {
         }
         None => si.ng,
     }
+}
+
+/// A point and its error bound carried through an affine placement: the bound grows by the
+/// rounding of the 3×3 product and the translation (pbrt-v4's transformed interval point):
+/// `(1 + γ₃)|L|·e + γ₃(|L|·|p| + |t|)`.
+#[inline]
+fn transformed_point(placement: &Placement, p: Vec3, error: Vec3) -> (Vec3, Vec3) {
+    let m = placement.world_from_object();
+    let abs = Mat3A::from_cols(
+        m.matrix3.x_axis.abs(),
+        m.matrix3.y_axis.abs(),
+        m.matrix3.z_axis.abs(),
+    );
+    let g3 = gamma(3);
+    let e = Vec3A::from(error);
+    let a = Vec3A::from(p).abs();
+    let bound = (1.0 + g3) * (abs * e) + g3 * (abs * a + m.translation.abs());
+    (placement.point(p), Vec3::from(bound))
 }
 
 #[cfg(test)]
@@ -119,6 +186,7 @@ mod tests {
             u: 0.25,
             v: 0.25,
             ng: Vec3::Y,
+            instance: 0,
         };
         let front = SurfaceInteraction::from_hit(&mesh, &hit, -Vec3::Y).unwrap();
         assert!(front.front_face && front.ng == Vec3::Y);
@@ -138,6 +206,7 @@ mod tests {
             u: 0.25,
             v: 0.25,
             ng: Vec3::ZERO,
+            instance: 0,
         };
         assert!(SurfaceInteraction::from_hit(&mesh, &hit, -Vec3::Y).is_none());
         let bad_prim = Hit {

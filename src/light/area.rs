@@ -40,6 +40,7 @@
 //! `None` for them, and `pdf` returns 0 there.
 
 use super::light_bvh::LightBvh;
+use crate::accel::Placement;
 use crate::sampling::distribution::Distribution1D;
 use crate::sampling::triangle::{spherical_triangle, spherical_triangle_area, uniform_triangle};
 use glam::{Vec2, Vec3};
@@ -51,17 +52,24 @@ pub const SOLID_ANGLE_RANGE: (f32, f32) = (3e-4, 6.0);
 /// Rec. 709 luminance weights, for the power of a light.
 const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
-/// One emissive mesh as the constructor sees it: world-space triangles and whether both faces
-/// emit. A mesh that emits nothing is passed with no triangles (so mesh indices stay those of
-/// the scene).
+/// One emissive mesh as the constructor sees it: its triangles, where they are drawn, and
+/// whether both faces emit. A mesh that emits nothing is passed with no triangles (so mesh
+/// indices stay those of the scene).
 #[derive(Clone, Copy, Debug)]
 pub struct EmitterMesh<'a> {
-    /// World-space vertex positions.
+    /// Vertex positions: world space, or object space with `instances`.
     pub positions: &'a [Vec3],
     /// Three vertex indices per triangle, counter-clockwise front faces.
     pub indices: &'a [[u32; 3]],
     /// Whether the back face emits too (glTF `doubleSided`).
     pub two_sided: bool,
+    /// Where the mesh is drawn (see [`crate::scene::Mesh::instances`]); empty: once, as given.
+    /// Each copy's triangles become lights of their own, in world space; of a placed mesh
+    /// only the triangles whose average emission is non-zero are stored, so that a thousand
+    /// copies of a mostly dark emitter do not hold a thousand copies of its dark triangles
+    /// (a BSDF-sampled ray still finds those, with MIS weight 1, exactly as it finds a
+    /// stored zero-power triangle).
+    pub instances: &'a [Placement],
 }
 
 /// An emissive mesh that cannot be used as a light.
@@ -120,6 +128,8 @@ pub struct TriangleLight {
     pub two_sided: bool,
     /// Mesh index.
     pub mesh: u32,
+    /// Which copy of a placed mesh (0 otherwise).
+    pub instance: u32,
     /// Triangle index in the mesh.
     pub triangle: u32,
 }
@@ -147,6 +157,8 @@ impl TriangleLight {
 pub struct AreaSample {
     /// Mesh index (as passed to the constructor: the scene's).
     pub mesh: u32,
+    /// Which copy of a placed mesh (0 otherwise).
+    pub instance: u32,
     /// Triangle index in the mesh.
     pub triangle: u32,
     /// Barycentrics of `point` for vertices 0, 1, 2 (to evaluate an emissive texture).
@@ -190,10 +202,15 @@ pub enum LightSelector {
 #[derive(Clone, Debug)]
 pub struct AreaLights {
     lights: Vec<TriangleLight>,
-    /// Per mesh, the index of its first triangle in `lights`, or `u32::MAX` when it has none:
-    /// all triangles of an emissive mesh are stored (zero-power ones with probability 0), so
-    /// triangle `t` of mesh `m` is light `mesh_first[m] + t`.
+    /// Per mesh, the index of its first copy in `copy_first`, or `u32::MAX` when it has no
+    /// lights.
     mesh_first: Vec<u32>,
+    /// Per copy of each mesh, the index of its first triangle in `lights`.
+    copy_first: Vec<u32>,
+    /// Per placed mesh, each triangle's offset within a copy's lights (`u32::MAX`: not
+    /// stored); `None` for a mesh drawn once, which stores all its triangles (zero-power
+    /// ones with probability 0), so that triangle `t` is at offset `t`.
+    stored: Vec<Option<Vec<u32>>>,
     /// `None` when no triangle emits.
     selector: Option<LightSelector>,
     /// Whether triangles in [`SOLID_ANGLE_RANGE`] are sampled by solid angle.
@@ -217,19 +234,25 @@ impl AreaLights {
         le: impl Fn(u32, u32) -> Vec3,
         mode: SelectionMode,
     ) -> Result<Self, AreaLightError> {
-        let count: usize = meshes.iter().map(|m| m.indices.len()).sum();
-        if count >= u32::MAX as usize || meshes.len() >= u32::MAX as usize {
+        let count: usize = meshes
+            .iter()
+            .map(|m| m.indices.len().saturating_mul(m.instances.len().max(1)))
+            .fold(0usize, usize::saturating_add);
+        if meshes.len() >= u32::MAX as usize {
             return Err(AreaLightError::TooMany { count });
         }
-        let mut lights = Vec::with_capacity(count);
+        let mut lights = Vec::new();
         let mut mesh_first = Vec::with_capacity(meshes.len());
+        let mut copy_first = Vec::new();
+        let mut stored = Vec::with_capacity(meshes.len());
         for (m, mesh) in meshes.iter().enumerate() {
             if mesh.indices.is_empty() {
                 mesh_first.push(u32::MAX);
+                stored.push(None);
                 continue;
             }
-            // Fits: lights.len() < count < u32::MAX, checked above.
-            mesh_first.push(lights.len() as u32);
+            let mut corners = Vec::with_capacity(mesh.indices.len());
+            let mut radiances = Vec::with_capacity(mesh.indices.len());
             for (t, tri) in mesh.indices.iter().enumerate() {
                 let vertex = |i: u32| {
                     mesh.positions
@@ -242,7 +265,7 @@ impl AreaLights {
                             vertices: mesh.positions.len(),
                         })
                 };
-                let (p0, p1, p2) = (vertex(tri[0])?, vertex(tri[1])?, vertex(tri[2])?);
+                corners.push([vertex(tri[0])?, vertex(tri[1])?, vertex(tri[2])?]);
                 let radiance = le(m as u32, t as u32);
                 if !(radiance.is_finite() && radiance.min_element() >= 0.0) {
                     return Err(AreaLightError::Radiance {
@@ -251,22 +274,75 @@ impl AreaLights {
                         radiance,
                     });
                 }
-                let (e1, e2) = (p1 - p0, p2 - p0);
-                let cross = e1.cross(e2);
-                let area = 0.5 * cross.length();
-                let ok = area.is_finite() && area > 0.0;
-                lights.push(TriangleLight {
-                    p0,
-                    e1,
-                    e2,
-                    normal: if ok { cross.normalize() } else { Vec3::ZERO },
-                    area: if ok { area } else { 0.0 },
-                    le: radiance,
-                    two_sided: mesh.two_sided,
-                    mesh: m as u32,
-                    triangle: t as u32,
-                });
+                radiances.push(radiance);
             }
+            // A placed mesh keeps only its glowing triangles; see `EmitterMesh::instances`.
+            let map = (!mesh.instances.is_empty()).then(|| {
+                let mut next = 0u32;
+                radiances
+                    .iter()
+                    .map(|r| {
+                        if *r == Vec3::ZERO {
+                            u32::MAX
+                        } else {
+                            next += 1;
+                            next - 1
+                        }
+                    })
+                    .collect::<Vec<u32>>()
+            });
+            let per_copy = match &map {
+                Some(map) => map.iter().filter(|&&o| o != u32::MAX).count(),
+                None => mesh.indices.len(),
+            };
+            let copies = mesh.instances.len().max(1);
+            let total = lights.len().saturating_add(per_copy.saturating_mul(copies));
+            if total >= u32::MAX as usize {
+                return Err(AreaLightError::TooMany { count: total });
+            }
+            lights.reserve(per_copy * copies);
+            // Fits: copy_first.len() ≤ lights.len() < u32::MAX (each copy has a light).
+            mesh_first.push(copy_first.len() as u32);
+            for copy in 0..copies {
+                let placement = mesh.instances.get(copy);
+                copy_first.push(lights.len() as u32);
+                for (t, (&[p0, p1, p2], &radiance)) in corners.iter().zip(&radiances).enumerate() {
+                    if map.as_ref().is_some_and(|map| map[t] == u32::MAX) {
+                        continue;
+                    }
+                    let [p0, p1, p2] = match placement {
+                        Some(placement) => [p0, p1, p2].map(|p| placement.point(p)),
+                        None => [p0, p1, p2],
+                    };
+                    let (e1, e2) = (p1 - p0, p2 - p0);
+                    let cross = e1.cross(e2);
+                    let area = 0.5 * cross.length();
+                    let ok = area.is_finite() && area > 0.0;
+                    // A mirroring placement turns the winding: the emitting side is the
+                    // object-space front, carried over, not the world-space winding's.
+                    let flip = placement.is_some_and(Placement::mirrored);
+                    let normal = if !ok {
+                        Vec3::ZERO
+                    } else if flip {
+                        -cross.normalize()
+                    } else {
+                        cross.normalize()
+                    };
+                    lights.push(TriangleLight {
+                        p0,
+                        e1,
+                        e2,
+                        normal,
+                        area: if ok { area } else { 0.0 },
+                        le: radiance,
+                        two_sided: mesh.two_sided,
+                        mesh: m as u32,
+                        instance: copy as u32,
+                        triangle: t as u32,
+                    });
+                }
+            }
+            stored.push(map);
         }
         let powers: Vec<f32> = lights.iter().map(TriangleLight::power).collect();
         let selector = match mode {
@@ -276,6 +352,8 @@ impl AreaLights {
         Ok(Self {
             lights,
             mesh_first,
+            copy_first,
+            stored,
             selector,
             solid_angle_sampling: true,
         })
@@ -299,6 +377,7 @@ impl AreaLights {
                     positions: &mesh.positions,
                     indices: if emits { &mesh.indices } else { &[] },
                     two_sided: material.is_some_and(|m| m.double_sided),
+                    instances: &mesh.instances,
                 }
             })
             .collect();
@@ -321,17 +400,27 @@ impl AreaLights {
         self.lights.iter().map(TriangleLight::power).sum()
     }
 
-    /// The light index of triangle `triangle` of mesh `mesh`, if it is stored.
+    /// The light index of triangle `triangle` of copy `instance` of mesh `mesh`, if it is
+    /// stored.
     #[inline]
-    pub fn light_index(&self, mesh: u32, triangle: u32) -> Option<usize> {
-        let first = *self.mesh_first.get(mesh as usize)?;
-        if first == u32::MAX {
+    pub fn light_index(&self, mesh: u32, instance: u32, triangle: u32) -> Option<usize> {
+        let slot = *self.mesh_first.get(mesh as usize)?;
+        if slot == u32::MAX {
             return None;
         }
-        let index = first as usize + triangle as usize;
+        let first = *self.copy_first.get(slot as usize + instance as usize)?;
+        let offset = match self.stored.get(mesh as usize)? {
+            Some(map) => match *map.get(triangle as usize)? {
+                u32::MAX => return None,
+                offset => offset,
+            },
+            None => triangle,
+        };
+        let index = first as usize + offset as usize;
         let light = self.lights.get(index)?;
-        // Guards against a triangle index past the end of its own mesh.
-        (light.mesh == mesh && light.triangle == triangle).then_some(index)
+        // Guards against an index past the end of its own mesh or copy.
+        (light.mesh == mesh && light.instance == instance && light.triangle == triangle)
+            .then_some(index)
     }
 
     /// The probability that the selector chooses light `index` for the shading point `p` with
@@ -382,6 +471,7 @@ impl AreaLights {
             let point = p + t * wi;
             return Some(AreaSample {
                 mesh: light.mesh,
+                instance: light.instance,
                 triangle: light.triangle,
                 barycentrics: barycentrics(light, point),
                 point,
@@ -407,6 +497,7 @@ impl AreaLights {
         }
         Some(AreaSample {
             mesh: light.mesh,
+            instance: light.instance,
             triangle: light.triangle,
             barycentrics: b,
             point,
@@ -450,8 +541,14 @@ impl AreaLights {
     /// the back of a one-sided one. (The brief's `light_normal` argument is not needed: the
     /// stored geometric normal is what `sample` uses.)
     #[inline]
-    pub fn pdf(&self, p: Vec3, n: Vec3, mesh: u32, triangle: u32, point: Vec3) -> f32 {
-        let Some(index) = self.light_index(mesh, triangle) else {
+    pub fn pdf(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        (mesh, instance, triangle): (u32, u32, u32),
+        point: Vec3,
+    ) -> f32 {
+        let Some(index) = self.light_index(mesh, instance, triangle) else {
             return 0.0;
         };
         let light = &self.lights[index];

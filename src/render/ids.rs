@@ -52,22 +52,29 @@ pub struct Coverage {
     pub fractions: Image<[f32; COVERAGE_LAYERS]>,
 }
 
-/// The instance ID of mesh `geom_id` (its glTF node, else its index).
+/// The instance ID of copy `instance` of mesh `geom_id` (its glTF node, else the mesh's
+/// index).
 #[inline]
-pub fn instance_id(scene: &Scene, geom_id: u32) -> u32 {
+pub fn instance_id(scene: &Scene, geom_id: u32, instance: u32) -> u32 {
     scene
         .meshes
         .get(geom_id as usize)
-        .and_then(|m| m.node)
+        .and_then(|m| m.node_of(instance))
         .unwrap_or(geom_id)
 }
 
-/// The material ID of mesh `geom_id`.
+/// The instance ID of a hit.
 #[inline]
-fn material_id(scene: &Scene, geom_id: u32) -> u32 {
+fn hit_instance_id(scene: &Scene, hit: &Hit) -> u32 {
+    instance_id(scene, hit.geom_id, hit.instance)
+}
+
+/// The material ID of a hit's mesh.
+#[inline]
+fn material_id(scene: &Scene, hit: &Hit) -> u32 {
     scene
         .meshes
-        .get(geom_id as usize)
+        .get(hit.geom_id as usize)
         .and_then(|m| u32::try_from(m.material).ok())
         .unwrap_or(NO_ID)
 }
@@ -89,7 +96,7 @@ pub(super) fn record_coverage(ctx: &TileContext<'_>, sums: &mut TileSums, hits: 
         return;
     }
     for (pixel, hit) in sums.coverage.iter_mut().zip(hits) {
-        let id = hit.map_or(NO_ID, |h| instance_id(ctx.scene, h.geom_id));
+        let id = hit.map_or(NO_ID, |h| hit_instance_id(ctx.scene, &h));
         count(pixel, id, 1);
     }
 }
@@ -116,13 +123,13 @@ pub(super) fn trace_centre_ids(
     ctx.accel
         .intersect_many(&rays, &mut hits, Coherence::Coherent);
     counts.camera += rays.len() as u64;
-    let ids = |f: fn(&Scene, u32) -> u32| -> Vec<u32> {
+    let ids = |f: fn(&Scene, &Hit) -> u32| -> Vec<u32> {
         hits.iter()
-            .map(|h| h.map_or(NO_ID, |h| f(ctx.scene, h.geom_id)))
+            .map(|h| h.map_or(NO_ID, |h| f(ctx.scene, &h)))
             .collect()
     };
     if aovs.instance_id {
-        sums.instance_id = ids(instance_id);
+        sums.instance_id = ids(hit_instance_id);
     }
     if aovs.material_id {
         sums.material_id = ids(material_id);

@@ -500,8 +500,7 @@ impl Footprint {
     /// `None` if the triangle's vertices are out of range (the hit is then unfiltered).
     #[inline]
     pub(super) fn at(mesh: &Mesh, si: &SurfaceInteraction, rd: &RayDifferential) -> Option<Self> {
-        let [a, b, c] = si.vertices.map(|i| mesh.positions.get(i as usize).copied());
-        let triangle = [a?, b?, c?];
+        let triangle = si.world_triangle(mesh)?;
         let surface = differentials::at_surface(rd, si.p, si.ng);
         Some(Self {
             db_dx: barycentric_derivatives(triangle, surface.dp_dx),
@@ -535,6 +534,12 @@ fn normal_derivatives(mesh: &Mesh, si: &SurfaceInteraction, f: &Footprint) -> (V
     let (Some(n), Some((dx, dy))) = (si.interpolate(normals), f.of(normals, si)) else {
         return (Vec3::ZERO, Vec3::ZERO);
     };
+    // The normal matrix is linear, so it carries the derivatives along with the normal.
+    let (n, dx, dy) = (
+        si.normal_to_world(n),
+        si.normal_to_world(dx),
+        si.normal_to_world(dy),
+    );
     let sign = if si.front_face { 1.0 } else { -1.0 };
     (
         sign * differentials::unit_normal_derivative(n, dx),

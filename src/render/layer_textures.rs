@@ -69,7 +69,7 @@ pub(super) fn coat_normal(
     frame: &Frame,
 ) -> Option<Vec3> {
     let normal = material.layers?.clearcoat?.normal_texture?;
-    let tangent = si.interpolate(mesh.tangents.as_deref()?)?;
+    let tangent = si.tangent_to_world(si.interpolate(mesh.tangents.as_deref()?)?);
     let side = if si.front_face { 1.0 } else { -1.0 };
     let texel = texture_value(ctx, mesh, si, footprint, &normal.texture).truncate();
     let (n, _) = perturbed_normal(texel, normal.scale, side * vertex_ns, tangent)?;

@@ -27,7 +27,7 @@ pub(super) fn apply(
     material: &ShadingMaterial,
 ) -> Option<Vec3> {
     let normal = material.normal_texture.as_ref()?;
-    let tangent = si.interpolate(mesh.tangents.as_deref()?)?;
+    let tangent = si.tangent_to_world(si.interpolate(mesh.tangents.as_deref()?)?);
     let side = if si.front_face { 1.0 } else { -1.0 };
     let texel = texture_value(ctx, mesh, si, footprint, &normal.texture).truncate();
     let (ns, t) = perturbed_normal(texel, normal.scale, side * si.ns, tangent)?;

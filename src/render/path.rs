@@ -333,8 +333,7 @@ fn shade<
             Some(area) => area.pdf(
                 path.origin,
                 path.origin_normal,
-                hit.geom_id,
-                hit.prim_id,
+                (hit.geom_id, hit.instance, hit.prim_id),
                 si.p,
             ),
             None => 0.0,
@@ -555,6 +554,7 @@ fn emitted_at<const TEXTURES: bool>(ctx: &TileContext<'_>, ls: &AreaSample) -> V
         front_face,
         barycentrics: ls.barycentrics,
         vertices,
+        placement: None,
     };
     if TEXTURES && let Some(t) = &material.emissive_texture {
         emission *= texture_value(ctx, mesh, &si, None, t).truncate();

@@ -408,7 +408,10 @@ fn ray_key(batch: u64, index: usize) -> u64 {
 #[inline]
 fn blend_uniform(key: u64, hit: &Hit) -> f32 {
     let surface = u64::from(hit.geom_id) | (u64::from(hit.prim_id) << 32);
-    let h = mix64(key ^ mix64(surface));
+    // Copies of a placed mesh decide independently; copy 0 (every unplaced mesh) hashes as
+    // before.
+    let copy = u64::from(hit.instance).wrapping_mul(0xD1B5_4A32_D192_ED03);
+    let h = mix64(key ^ mix64(surface) ^ copy);
     // The top 24 bits: every f32 in [0, 1) of spacing 2⁻²⁴, never 1.
     (h >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
 }
@@ -437,6 +440,7 @@ mod tests {
             u: 0.0,
             v: 0.0,
             ng: glam::Vec3::Z,
+            instance: 0,
         };
         for i in 0..n {
             let u = blend_uniform(ray_key(batch, i), &hit(5));

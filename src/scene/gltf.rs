@@ -6,7 +6,8 @@
 //! - The default scene, or the one [`SceneSelection::scene`] names (else scene 0; a file
 //!   without scenes renders its root nodes). The node
 //!   hierarchy is flattened: matrix or translation · rotation · scale composed down the tree;
-//!   one [`Mesh`](super::Mesh) per (node, primitive), named `node "X" / mesh 3 / primitive 0`.
+//!   one world-space [`Mesh`](super::Mesh) per (node, primitive), named
+//!   `node "X" / mesh 3 / primitive 0`, unless the mesh is shared (below).
 //!   Positions go through the world matrix, normals through its inverse transpose
 //!   (renormalised), tangents through its linear part; a mirroring node (negative
 //!   determinant) has its triangles' winding flipped so that front faces stay
@@ -19,7 +20,9 @@
 //!   EXT_meshopt_compression's compressed buffer views, decoded at load (`meshopt`).
 //! - Morph targets with the node's or mesh's default weights (`morph`); skins posed by their
 //!   joints (`skin`); animations sampled at [`SceneSelection::time`] (`animation`).
-//! - EXT_mesh_gpu_instancing, flattened into one mesh per instance (`instancing`).
+//! - EXT_mesh_gpu_instancing, and meshes several nodes share (same mesh, same morph weights,
+//!   not skinned): one object-space [`Mesh`](super::Mesh) per primitive with a placement per
+//!   copy (`instancing`, `sharing`), traced as instances of one structure by both backends.
 //! - Materials: baseColorFactor and baseColorTexture, metallicFactor, roughnessFactor,
 //!   emissiveFactor × KHR_materials_emissive_strength, emissiveTexture, doubleSided, name;
 //!   metallicRoughnessTexture; normalTexture with scale (`normal_texture`; MikkTSpace
@@ -72,6 +75,7 @@ mod objects;
 mod primitives;
 mod procedural;
 mod quantization;
+mod sharing;
 mod skin;
 mod source;
 mod unsupported;
@@ -249,45 +253,70 @@ fn load_bytes(
         textures,
         ..Scene::default()
     };
+    // Per node: its morph weights, its skin's joint matrices and its copies (node-local
+    // transforms; one identity copy without EXT_mesh_gpu_instancing).
+    let mut drawn = Vec::with_capacity(placed.len());
     for node in &placed {
-        if let Some(mesh) = node.node.mesh() {
-            let weights = pose
-                .node(node.node.index())
-                .and_then(|p| p.weights.clone())
-                .unwrap_or_else(|| morph::default_weights(&node.node));
-            let joints = match node.node.skin() {
-                Some(skin) => Some(skin::joint_matrices(
-                    &node.node,
-                    &skin,
-                    &all_world,
-                    &source.buffers,
-                    origin,
-                )?),
-                None => None,
+        let Some(mesh) = node.node.mesh() else {
+            drawn.push(None);
+            continue;
+        };
+        let weights = pose
+            .node(node.node.index())
+            .and_then(|p| p.weights.clone())
+            .unwrap_or_else(|| morph::default_weights(&node.node));
+        let joints = match node.node.skin() {
+            Some(skin) => Some(skin::joint_matrices(
+                &node.node,
+                &skin,
+                &all_world,
+                &source.buffers,
+                origin,
+            )?),
+            None => None,
+        };
+        let gpu_instances = instancing::transforms(&node.node, document, &source.buffers, origin)?;
+        // A skinned mesh is placed by its joints, so instancing it would be meaningless.
+        let copies = match (&joints, gpu_instances) {
+            (None, Some(copies)) => copies,
+            (Some(_), Some(_)) => {
+                warnings.push(format!(
+                    "{}: {}: EXT_mesh_gpu_instancing on a skinned node is ignored (the joints place the mesh)",
+                    origin.file.display(),
+                    nodes::node_label(&node.node)
+                ));
+                vec![Mat4::IDENTITY]
+            }
+            (_, None) => vec![Mat4::IDENTITY],
+        };
+        drawn.push(Some(sharing::NodeMesh {
+            mesh,
+            weights,
+            joints,
+            copies,
+            instanced: node
+                .node
+                .extension_value("EXT_mesh_gpu_instancing")
+                .is_some(),
+        }));
+    }
+    let shares = sharing::plan(&placed, &drawn);
+    for (index, node) in placed.iter().enumerate() {
+        if let Some(Some(drawn)) = drawn.get(index) {
+            let mesh = &drawn.mesh;
+            let share = shares.of(index);
+            if share.is_some_and(|s| !s.first) {
+                // Drawn as a placement of the meshes its group's first node built.
+                continue;
+            }
+            // A shared mesh is built once in object space and placed at every copy of
+            // every node of its group; any other is baked into world space per copy.
+            let placements = share.map(|s| s.placements.as_slice());
+            let copies: &[Mat4] = match placements {
+                Some(_) => &[Mat4::IDENTITY],
+                None => &drawn.copies,
             };
-            // Instancing is flattened (one copy per instance); a skinned mesh is placed by
-            // its joints, so instancing it would be meaningless.
-            let instances = match (
-                &joints,
-                instancing::transforms(&node.node, document, &source.buffers, origin)?,
-            ) {
-                (None, Some(instances)) => instances,
-                (Some(_), Some(_)) => {
-                    warnings.push(format!(
-                        "{}: {}: EXT_mesh_gpu_instancing on a skinned node is ignored (the joints place the mesh)",
-                        origin.file.display(),
-                        nodes::node_label(&node.node)
-                    ));
-                    vec![Mat4::IDENTITY]
-                }
-                (_, None) => vec![Mat4::IDENTITY],
-            };
-            let instanced = instances.len() > 1
-                || node
-                    .node
-                    .extension_value("EXT_mesh_gpu_instancing")
-                    .is_some();
-            for (instance, local) in instances.iter().enumerate() {
+            for (instance, local) in copies.iter().enumerate() {
                 for primitive in mesh.primitives() {
                     let material = match primitive.material().index() {
                         Some(index) => index,
@@ -296,25 +325,28 @@ fn load_bytes(
                             default_material
                         }
                     };
-                    let instance_label = if instanced {
-                        format!(" / instance {instance}")
-                    } else {
-                        String::new()
+                    let copy_label = match placements {
+                        Some(p) => format!(" / {} copies", p.len()),
+                        None if drawn.instanced => format!(" / instance {instance}"),
+                        None => String::new(),
                     };
                     let ctx = primitives::PrimitiveContext {
                         origin,
                         buffers: &source.buffers,
                         label: format!(
-                            "{} / mesh {} / primitive {}{instance_label}",
+                            "{} / mesh {} / primitive {}{copy_label}",
                             nodes::node_label(&node.node),
                             mesh.index(),
                             primitive.index()
                         ),
-                        world_from_object: node.world_from_node * *local,
+                        world_from_object: match placements {
+                            Some(_) => Mat4::IDENTITY,
+                            None => node.world_from_node * *local,
+                        },
                         material,
                         quantized,
-                        morph_weights: &weights,
-                        skin: joints.as_deref(),
+                        morph_weights: &drawn.weights,
+                        skin: drawn.joints.as_deref(),
                     };
                     if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
                         built.node = u32::try_from(node.node.index()).ok();
@@ -324,6 +356,12 @@ fn load_bytes(
                             origin,
                             &mut warnings,
                         );
+                        if let Some(placements) = placements {
+                            built.instances = placements.to_vec();
+                            if built.instances.is_empty() {
+                                continue;
+                            }
+                        }
                         scene.meshes.push(built);
                     }
                 }

@@ -16,6 +16,7 @@ pub mod texture_decode;
 
 use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
 
+pub use crate::accel::Placement;
 pub use features::SceneFeatures;
 
 /// A scene ready to render.
@@ -33,7 +34,8 @@ pub struct Scene {
     pub lights: Vec<Light>,
 }
 
-/// One triangle mesh in world space (one glTF primitive instanced by one node).
+/// One triangle mesh (one glTF primitive of one node, or of every node and instance that
+/// shares it), in world space or, with `instances`, in object space.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
     /// Where it came from, for messages (e.g. `node "Wheel" / mesh 3 / primitive 0`).
@@ -53,9 +55,62 @@ pub struct Mesh {
     /// Index into `Scene::materials`.
     pub material: usize,
     /// Index of the glTF node that instances it, for the `instance_id` AOV; `None` for
-    /// meshes made in code. Every copy of an EXT_mesh_gpu_instancing node and every
-    /// primitive of the node's mesh carry the node's index.
+    /// meshes made in code. Every primitive of the node's mesh carries the node's index. A
+    /// mesh with `instances` reports each placement's own node instead.
     pub node: Option<u32>,
+    /// Where the mesh is drawn. Empty: once, and the positions, normals and tangents above are
+    /// in world space. Otherwise they are in object space and the mesh is drawn once per
+    /// placement (EXT_mesh_gpu_instancing, or a mesh several nodes share): the ray backends
+    /// keep one structure for it, and shading carries each hit to world space.
+    pub instances: Vec<Placement>,
+}
+
+impl Mesh {
+    /// The placement a hit on copy `instance` names, or `None` for a mesh in world space.
+    #[inline]
+    pub fn placement(&self, instance: u32) -> Option<&Placement> {
+        self.instances.get(instance as usize)
+    }
+
+    /// The node the `instance_id` AOV reports for copy `instance`.
+    #[inline]
+    pub fn node_of(&self, instance: u32) -> Option<u32> {
+        match self.placement(instance) {
+            Some(placement) => placement.node,
+            None => self.node,
+        }
+    }
+
+    /// How many copies are drawn (1 without placements).
+    #[inline]
+    pub fn copies(&self) -> usize {
+        self.instances.len().max(1)
+    }
+
+    /// The world-space corners of triangle `triangle` on copy `instance`.
+    #[inline]
+    pub fn world_triangle(&self, instance: u32, vertices: [u32; 3]) -> Option<[Vec3; 3]> {
+        let [a, b, c] = vertices.map(|i| self.positions.get(i as usize).copied());
+        let corners = [a?, b?, c?];
+        Some(match self.placement(instance) {
+            Some(p) => corners.map(|v| p.point(v)),
+            None => corners,
+        })
+    }
+
+    /// World-space bounds of all copies, or `None` without vertices.
+    pub fn world_bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut points = self.positions.iter().copied();
+        let first = points.next()?;
+        let (lo, hi) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        if self.instances.is_empty() {
+            return Some((lo, hi));
+        }
+        self.instances
+            .iter()
+            .map(|p| p.bounds(lo, hi))
+            .reduce(|(alo, ahi), (blo, bhi)| (alo.min(blo), ahi.max(bhi)))
+    }
 }
 
 /// A surface material, from glTF's metallic-roughness model. See the README for how it maps
@@ -352,15 +407,24 @@ pub enum Light {
 }
 
 impl Scene {
-    /// Axis-aligned bounds of all vertices, or `None` for an empty scene.
+    /// Axis-aligned world bounds of all vertices of every copy, or `None` for an empty scene.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        let mut points = self.meshes.iter().flat_map(|m| m.positions.iter().copied());
-        let first = points.next()?;
-        Some(points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+        self.meshes
+            .iter()
+            .filter_map(Mesh::world_bounds)
+            .reduce(|(alo, ahi), (blo, bhi)| (alo.min(blo), ahi.max(bhi)))
     }
 
-    /// Total triangle count.
+    /// Triangles drawn, every placed copy counted.
     pub fn triangle_count(&self) -> usize {
+        self.meshes
+            .iter()
+            .map(|m| m.indices.len() * m.copies())
+            .sum()
+    }
+
+    /// Triangles stored: a placed mesh counted once.
+    pub fn unique_triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()
     }
 
@@ -371,6 +435,7 @@ impl Scene {
             .map(|m| crate::accel::TriangleMesh {
                 positions: &m.positions,
                 indices: &m.indices,
+                instances: &m.instances,
             })
             .collect()
     }

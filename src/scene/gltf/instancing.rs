@@ -1,10 +1,9 @@
-//! EXT_mesh_gpu_instancing, flattened: one world-space copy of the node's mesh per instance.
+//! EXT_mesh_gpu_instancing: the node-local transforms of a node's instances.
 //!
 //! The extension gives a node per-instance TRANSLATION, ROTATION and SCALE accessors (any
 //! subset; missing ones are identity); instance `i` is drawn at
-//! `world_from_node · T(tᵢ) · R(rᵢ) · S(sᵢ)`. glint copies the mesh once per instance,
-//! so memory grows with the instance count; a two-level acceleration structure (one
-//! geometry, many instances) is the accel layer's business and not done here yet.
+//! `world_from_node · T(tᵢ) · R(rᵢ) · S(sᵢ)`. The loader stores the mesh once and each
+//! instance as a placement of it (`sharing`), so memory grows with the unique geometry.
 
 use super::LoadError;
 use super::accessors;
@@ -15,38 +14,9 @@ use glam::{Mat4, Quat, Vec3};
 
 const EXTENSION: &str = "EXT_mesh_gpu_instancing";
 
-/// The most vertices one instanced node may flatten into (2²⁸: about 10 GiB of positions,
-/// normals and texture coordinates). Flattening multiplies the mesh by the instance count,
-/// so a small file could otherwise ask for more memory than any machine has.
-const MAX_FLATTENED_VERTICES: u64 = 1 << 28;
-
-/// Refuses, before anything is copied, an instanced node whose flattened copies would
-/// exceed [`MAX_FLATTENED_VERTICES`].
-fn check_flattened_size(
-    node: &::gltf::Node<'_>,
-    mesh: &::gltf::Mesh<'_>,
-    instances: usize,
-    origin: Origin<'_>,
-) -> Result<(), LoadError> {
-    let per_copy: u64 = mesh
-        .primitives()
-        .filter_map(|p| p.get(&::gltf::Semantic::Positions))
-        .map(|a| a.count() as u64)
-        .sum();
-    let total = per_copy.saturating_mul(instances as u64);
-    if total > MAX_FLATTENED_VERTICES {
-        return Err(LoadError::Node {
-            path: origin.file.to_path_buf(),
-            what: format!("{} / {EXTENSION}", node_label(node)),
-            problem: format!(
-                "{instances} instances × {per_copy} vertices would flatten to {total} vertices, more than \
-                 glint's limit of {MAX_FLATTENED_VERTICES}: glint copies each instance for now (reduce the \
-                 instance count or the mesh)"
-            ),
-        });
-    }
-    Ok(())
-}
+/// The most instances one node may have (2²⁴): each costs a placement (about 160 bytes) and an
+/// instance in each backend's top level.
+const MAX_INSTANCES: usize = 1 << 24;
 
 /// The node-local transforms of the node's instances, or `None` if it is not instanced.
 pub fn transforms(
@@ -111,8 +81,10 @@ pub fn transforms(
             "has none of TRANSLATION, ROTATION, SCALE (re-export the scene)".into(),
         ));
     };
-    if let Some(mesh) = node.mesh() {
-        check_flattened_size(node, &mesh, count, origin)?;
+    if count > MAX_INSTANCES {
+        return Err(fail(format!(
+            "has {count} instances, more than glint's limit of {MAX_INSTANCES} (split the node)"
+        )));
     }
     let read3 =
         |a: &Option<::gltf::Accessor<'_>>| a.as_ref().map(|a| quantization::read::<3>(a, buffers));

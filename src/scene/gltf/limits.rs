@@ -63,6 +63,19 @@ pub fn check_scene(scene: &Scene, origin: Origin<'_>) -> Result<(), LoadError> {
         problem,
     };
     for mesh in &scene.meshes {
+        if !mesh.instances.is_empty()
+            && let Some((lo, hi)) = mesh.world_bounds()
+            && (far(lo) || far(hi))
+        {
+            return Err(LoadError::Primitive {
+                path: origin.file.to_path_buf(),
+                primitive: mesh.name.clone(),
+                problem: format!(
+                    "its copies reach {lo} .. {hi}, beyond ±{MAX_COORDINATE:e} where f32 rays lose all \
+                     precision (scale the scene down or fix the node or instance transforms)"
+                ),
+            });
+        }
         if let Some((vertex, p)) = mesh.positions.iter().enumerate().find(|(_, p)| far(**p)) {
             return Err(LoadError::Primitive {
                 path: origin.file.to_path_buf(),

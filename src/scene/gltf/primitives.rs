@@ -279,6 +279,7 @@ pub fn build(
         material: ctx.material,
         // The caller knows the node.
         node: None,
+        instances: Vec::new(),
     }))
 }
 
