@@ -11,8 +11,10 @@
 //! - [`render`]: `bench render`: the renderer's kernels, its raw-trace ceiling and its thread
 //!   scaling, on the renderer's own camera rays and tiles.
 //! - [`ray_mix`]: the path tracer's own rays, recorded during a render and replayed unshaded.
+//! - [`instances`]: `bench instances`: build time and bytes of placed copies against baked ones.
 
 pub mod cpu;
+pub mod instances;
 pub mod ray_mix;
 pub mod rays;
 pub mod render;

@@ -18,6 +18,29 @@ pub enum BenchCommand {
     /// The renderer's end-to-end ray rate next to the raw backend rate on the same rays, its
     /// kernel specialisation against the general kernel, and its scaling from 1 thread to all.
     Render(KernelBenchArgs),
+    /// Build time and memory of many copies of one model: placed (two-level) against baked
+    /// into world space, on both backends.
+    Instances(InstancesArgs),
+}
+
+/// Arguments of `glint bench instances`.
+#[derive(clap::Args, Debug)]
+pub struct InstancesArgs {
+    /// The model: a .gltf/.glb file or a built-in (sphere, terrain, soup).
+    #[arg(value_name = "SCENE")]
+    pub scene: String,
+    /// Copies drawn as placements.
+    #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..=(1 << 24)))]
+    pub count: u64,
+    /// Copies baked into world space for the comparison (their bytes are scaled to --count).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=(1 << 24)))]
+    pub flat_count: u64,
+    /// Print the rows as JSON on stdout (the table goes to stderr).
+    #[arg(long)]
+    pub json: bool,
+    /// Every file the scene refers to must resolve inside this folder.
+    #[arg(long, value_name = "DIR")]
+    pub asset_root: Option<PathBuf>,
 }
 
 /// Arguments of `glint bench rays`.
@@ -121,7 +144,35 @@ pub fn run(cmd: BenchCommand) -> Result<(), CliError> {
             Ok(())
         }
         BenchCommand::Render(args) => run_render(args),
+        BenchCommand::Instances(args) => run_instances(&args),
     }
+}
+
+fn run_instances(args: &InstancesArgs) -> Result<(), CliError> {
+    let scene = BenchScene::from_arg_with(
+        &args.scene,
+        SceneSize::Full,
+        &load_options(&args.asset_root),
+    )
+    .map_err(CliError::from_display)?;
+    let config = crate::bench::instances::InstancesConfig {
+        count: args.count as usize,
+        flat_count: args.flat_count as usize,
+        options: BuildOptions::default(),
+    };
+    let rows = crate::bench::instances::run(&scene, &config, &mut |line| eprintln!("{line}"))
+        .map_err(CliError::from_display)?;
+    let table = crate::bench::instances::table(&rows, config.count);
+    if args.json {
+        eprintln!("{table}");
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).map_err(CliError::from_display)?
+        );
+    } else {
+        println!("{table}");
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -139,7 +190,7 @@ mod tests {
         let cli = Cli::try_parse_from(std::iter::once("bench").chain(args.iter().copied()))?;
         match cli.bench {
             BenchCommand::Rays(args) => Ok(args),
-            BenchCommand::Render(_) => panic!("expected bench rays"),
+            BenchCommand::Render(_) | BenchCommand::Instances(_) => panic!("expected bench rays"),
         }
     }
 
