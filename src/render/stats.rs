@@ -153,6 +153,13 @@ impl RenderStats {
                 r.retraced
             ));
         }
+        let f = &self.features;
+        if f.placed_copies > 0 {
+            line.push_str(&format!(
+                "; {} triangles drawn from {} stored ({} placed copies, two-level)",
+                f.drawn_triangles, f.stored_triangles, f.placed_copies
+            ));
+        }
         if self.texture_bytes > 0 {
             line.push_str(&format!(
                 "; textures {:.1} MiB with MIP maps ({:.2} B/texel)",

@@ -38,6 +38,12 @@ pub struct SceneFeatures {
     /// both integrators shade it with the layered BSDF, so the direct integrator runs the path
     /// kernel's delta-only mode for such scenes.
     pub layered_materials: bool,
+    /// Placed copies of meshes stored once (0 when every mesh is drawn once, baked).
+    pub placed_copies: usize,
+    /// Triangles stored, each placed mesh once.
+    pub stored_triangles: usize,
+    /// Triangles drawn, each placed copy counted.
+    pub drawn_triangles: usize,
 }
 
 impl SceneFeatures {
@@ -65,6 +71,9 @@ impl SceneFeatures {
             }
             f.vertex_colors |= mesh.colors.is_some();
             f.shading_normals |= mesh.normals.is_some();
+            f.placed_copies += mesh.instances.len();
+            f.stored_triangles += mesh.indices.len();
+            f.drawn_triangles += mesh.indices.len() * mesh.copies();
         }
         for (material, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
             f.textures |=
