@@ -231,6 +231,28 @@ pub trait TexelVisitor {
     fn visit<R: TexelRead>(self, reader: R) -> Self::Output;
 }
 
+/// Work done with the readers of two texel stores at once ([`Texels::visit_pair`]): the two
+/// levels a trilinear lookup blends.
+pub trait TexelPairVisitor {
+    /// What the work returns.
+    type Output;
+    /// Does the work with `a` (the first store's reader) and `b` (the second's).
+    fn visit<R: TexelRead>(self, a: R, b: R) -> Self::Output;
+}
+
+/// Reads any storage one texel at a time ([`Texels::texel`]): the pair reader for two stores of
+/// different formats, which MIP chains never have (every level keeps the base's format), so
+/// that case is correct rather than fast.
+#[derive(Clone, Copy)]
+pub struct ReadAny<'a>(&'a Texels);
+
+impl TexelRead for ReadAny<'_> {
+    #[inline]
+    fn read(&self, index: usize) -> Vec4 {
+        self.0.texel(index)
+    }
+}
+
 /// Nearest code to a linear value `v` in a monotone `table`: the code whose entry is closest
 /// to `v`, ties to the lower code. Values outside the table's range clamp to its ends.
 fn nearest_code(table: &[f32], v: f32) -> usize {
@@ -386,6 +408,126 @@ impl Texels {
                     _ => visitor.visit(Read16::<4> { data, color, alpha }),
                 }
             }
+        }
+    }
+
+    /// Runs `visitor` with the readers of this storage and `other`, dispatched on the format
+    /// once for both: one compiled instance per format when they share it (precision, channel
+    /// layout and colour space, as the levels of one MIP chain do), [`ReadAny`] otherwise.
+    #[inline]
+    pub fn visit_pair<V: TexelPairVisitor>(&self, other: &Texels, visitor: V) -> V::Output {
+        let same_layout = self.channels == other.channels && self.space == other.space;
+        match (&self.data, &other.data) {
+            (Data::F32(a), Data::F32(b)) => visitor.visit(ReadF32 { data: a }, ReadF32 { data: b }),
+            (Data::U8(a), Data::U8(b)) if same_layout => {
+                let (color, alpha) = (table8(self.space), table8(ColorSpace::Linear));
+                let (a, b) = (&a[..], &b[..]);
+                match self.channels {
+                    1 => visitor.visit(
+                        Read8::<1> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read8::<1> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                    2 => visitor.visit(
+                        Read8::<2> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read8::<2> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                    3 => visitor.visit(
+                        Read8::<3> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read8::<3> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                    _ => visitor.visit(
+                        Read8::<4> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read8::<4> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                }
+            }
+            (Data::U16(a), Data::U16(b)) if same_layout => {
+                let (color, alpha) = (table16(self.space), table16(ColorSpace::Linear));
+                let (a, b) = (&a[..], &b[..]);
+                match self.channels {
+                    1 => visitor.visit(
+                        Read16::<1> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read16::<1> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                    2 => visitor.visit(
+                        Read16::<2> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read16::<2> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                    3 => visitor.visit(
+                        Read16::<3> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read16::<3> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                    _ => visitor.visit(
+                        Read16::<4> {
+                            data: a,
+                            color,
+                            alpha,
+                        },
+                        Read16::<4> {
+                            data: b,
+                            color,
+                            alpha,
+                        },
+                    ),
+                }
+            }
+            _ => visitor.visit(ReadAny(self), ReadAny(other)),
         }
     }
 

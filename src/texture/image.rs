@@ -47,12 +47,29 @@ pub struct Wrap {
     pub t: WrapMode,
 }
 
+/// Below this magnitude every f64 is exactly an integer plus a fraction that [`split`] can
+/// find by truncation (2⁵²: from there on every f64 is an integer).
+const SPLIT_EXACT: f64 = 4_503_599_627_370_496.0;
+
 /// A texel coordinate split into its integer part and the fraction in [0, 1).
-#[inline]
+///
+/// The floor is taken by truncation to an integer and a correction for negative values: the
+/// baseline x86-64 target has no rounding instruction, so `f64::floor` is a library call, and
+/// this is the innermost arithmetic of every filter. For |st| < 2⁵² the truncated value is
+/// exact, so the result is bit for bit `(st.floor() as i64, (st - st.floor()) as f32)`; larger
+/// or NaN coordinates take that expression itself.
+#[inline(always)]
 fn split(st: f64) -> (i64, f32) {
-    let floor = st.floor();
-    // `as` saturates, so an absurd coordinate clamps instead of wrapping around i64.
-    (floor as i64, (st - floor) as f32)
+    if st.abs() < SPLIT_EXACT {
+        let t = st as i64;
+        let floor = if (t as f64) > st { t - 1 } else { t };
+        // |floor| < 2⁵², so `floor as f64` is exact: the same fraction as below.
+        (floor, (st - floor as f64) as f32)
+    } else {
+        let floor = st.floor();
+        // `as` saturates, so an absurd coordinate clamps instead of wrapping around i64.
+        (floor as i64, (st - floor) as f32)
+    }
 }
 
 /// Texel-space position of `uv` on a grid of `width × height` (f64: see the module notes).
@@ -62,13 +79,29 @@ fn texel_space(uv: Vec2, width: u32, height: u32) -> DVec2 {
     uv.as_dvec2() * DVec2::new(f64::from(width), f64::from(height))
 }
 
-/// [`wrap`] without its integer division for the common case of a coordinate already inside
-/// the grid.
+/// [`wrap`] without its integer division for the common cases: a coordinate already inside
+/// the grid, and a repeating power-of-two side (where the Euclidean remainder is a mask of the
+/// two's-complement bits). Texture coordinates outside [0, 1] are common (DamagedHelmet's v
+/// runs from 1 to 2), and a 64-bit division costs tens of cycles.
 #[inline(always)]
 fn wrap_fast(i: i64, size: u32, mode: WrapMode) -> usize {
     if (i as u64) < u64::from(size) {
         // 0 ≤ i < size ≤ u32::MAX.
         i as usize
+    } else if mode == WrapMode::Repeat {
+        let n = i64::from(size);
+        if size.is_power_of_two() {
+            // i mod 2ᵏ for every i (negative ones included) is its low k bits: < size.
+            (i & (n - 1)) as usize
+        } else if (n..2 * n).contains(&i) {
+            // One period past the end: i − n in [0, n).
+            (i - n) as usize
+        } else if (-n..0).contains(&i) {
+            // One period before the start: i + n in [0, n).
+            (i + n) as usize
+        } else {
+            wrap(i, size, mode)
+        }
     } else {
         wrap(i, size, mode)
     }
@@ -110,20 +143,33 @@ impl TexelVisitor for Point {
 }
 
 /// A grid's size with the reader of its storage format: the filters, compiled per format.
-struct Reader<R> {
+/// Filters that read many points of one level visit its storage once and reuse this
+/// ([`crate::texture::filter`]).
+pub(crate) struct Reader<R> {
     reader: R,
     width: u32,
     height: u32,
 }
 
 impl<R: TexelRead> Reader<R> {
+    /// `grid`'s size with `reader`, which must read `grid`'s texels.
+    #[inline(always)]
+    pub(crate) fn new(reader: R, grid: &TexelGrid) -> Self {
+        Self {
+            reader,
+            width: grid.width,
+            height: grid.height,
+        }
+    }
+
     #[inline(always)]
     fn at(&self, ix: usize, iy: usize) -> Vec4 {
         self.reader.read(iy * self.width as usize + ix)
     }
 
+    /// [`TexelGrid::nearest`].
     #[inline(always)]
-    fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+    pub(crate) fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
         let st = texel_space(uv, self.width, self.height);
         self.at(
             wrap_fast(split(st.x).0, self.width, wrap.s),
@@ -131,8 +177,9 @@ impl<R: TexelRead> Reader<R> {
         )
     }
 
+    /// [`TexelGrid::bilinear`].
     #[inline(always)]
-    fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+    pub(crate) fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
         let st = texel_space(uv, self.width, self.height) - 0.5;
         let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
         let (x0, x1) = (
