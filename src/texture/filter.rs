@@ -163,16 +163,57 @@ impl Probes {
 
     /// The mean of `probe` over the points (the single point's value itself for one).
     #[inline(always)]
-    fn mean(&self, probe: impl Fn(Vec2) -> Vec4) -> Vec4 {
+    fn mean<P: Probe>(&self, probe: &P) -> Vec4 {
         if self.count == 1 {
-            return probe(self.uv);
+            return probe.at(self.uv);
         }
         let mut sum = Vec4::ZERO;
         for i in 0..self.count {
             let offset = (i as f32 + 0.5) / self.count as f32 - 0.5;
-            sum += probe(self.uv + self.step * offset);
+            sum += probe.at(self.uv + self.step * offset);
         }
         sum / self.count as f32
+    }
+}
+
+/// One probe's reconstruction at a point: a trait rather than a closure so that it is
+/// inlined into the probe loop (with the level's size and wrap rules held in registers).
+trait Probe {
+    fn at(&self, uv: Vec2) -> Vec4;
+}
+
+/// Nearest or bilinear on one level.
+struct OneLevelProbe<R> {
+    level: Reader<R>,
+    wrap: Wrap,
+    nearest: bool,
+}
+
+impl<R: TexelRead> Probe for OneLevelProbe<R> {
+    #[inline(always)]
+    fn at(&self, uv: Vec2) -> Vec4 {
+        if self.nearest {
+            self.level.nearest(uv, self.wrap)
+        } else {
+            self.level.bilinear(uv, self.wrap)
+        }
+    }
+}
+
+/// Bilinear on two levels, blended by `f`.
+struct TwoLevelProbe<R> {
+    fine: Reader<R>,
+    coarse: Reader<R>,
+    f: f32,
+    wrap: Wrap,
+}
+
+impl<R: TexelRead> Probe for TwoLevelProbe<R> {
+    #[inline(always)]
+    fn at(&self, uv: Vec2) -> Vec4 {
+        self.fine
+            .bilinear(uv, self.wrap)
+            .lerp(self.coarse.bilinear(uv, self.wrap), self.f)
     }
 }
 
@@ -225,12 +266,11 @@ impl TexelVisitor for OneLevel<'_> {
 
     #[inline(always)]
     fn visit<R: TexelRead>(self, reader: R) -> Vec4 {
-        let level = Reader::new(reader, self.grid);
-        if self.nearest {
-            self.probes.mean(|uv| level.nearest(uv, self.wrap))
-        } else {
-            self.probes.mean(|uv| level.bilinear(uv, self.wrap))
-        }
+        self.probes.mean(&OneLevelProbe {
+            level: Reader::new(reader, self.grid),
+            wrap: self.wrap,
+            nearest: self.nearest,
+        })
     }
 }
 
@@ -247,10 +287,11 @@ impl TexelPairVisitor for TwoLevels<'_> {
 
     #[inline(always)]
     fn visit<R: TexelRead>(self, a: R, b: R) -> Vec4 {
-        let (fine, coarse) = (Reader::new(a, self.grids.0), Reader::new(b, self.grids.1));
-        self.probes.mean(|uv| {
-            fine.bilinear(uv, self.wrap)
-                .lerp(coarse.bilinear(uv, self.wrap), self.f)
+        self.probes.mean(&TwoLevelProbe {
+            fine: Reader::new(a, self.grids.0),
+            coarse: Reader::new(b, self.grids.1),
+            f: self.f,
+            wrap: self.wrap,
         })
     }
 }
