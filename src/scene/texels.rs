@@ -151,19 +151,29 @@ const fn is_alpha<const N: usize>(k: usize) -> bool {
 /// Reader of 8-bit texels with `N` channels.
 #[derive(Clone, Copy)]
 pub struct Read8<'a, const N: usize> {
-    data: &'a [u8],
+    /// The codes, one `N`-array per texel (one bounds check per read).
+    data: &'a [[u8; N]],
     color: &'static Table8,
     alpha: &'static Table8,
+}
+
+impl<'a, const N: usize> Read8<'a, N> {
+    /// The reader of `codes` (`N` per texel; a trailing partial texel, which constructors
+    /// prevent, is not read).
+    #[inline(always)]
+    fn new(codes: &'a [u8], color: &'static Table8, alpha: &'static Table8) -> Self {
+        Self {
+            data: codes.as_chunks::<N>().0,
+            color,
+            alpha,
+        }
+    }
 }
 
 impl<const N: usize> TexelRead for Read8<'_, N> {
     #[inline(always)]
     fn read(&self, index: usize) -> Vec4 {
-        let Some(codes) = self
-            .data
-            .get(index * N..)
-            .and_then(|s| s.first_chunk::<N>())
-        else {
+        let Some(codes) = self.data.get(index) else {
             return Vec4::ONE;
         };
         let mut c = [0.0; 4];
@@ -182,19 +192,29 @@ impl<const N: usize> TexelRead for Read8<'_, N> {
 /// Reader of 16-bit texels with `N` channels.
 #[derive(Clone, Copy)]
 pub struct Read16<'a, const N: usize> {
-    data: &'a [u16],
+    /// The codes, one `N`-array per texel (one bounds check per read).
+    data: &'a [[u16; N]],
     color: &'static Table16,
     alpha: &'static Table16,
+}
+
+impl<'a, const N: usize> Read16<'a, N> {
+    /// The reader of `codes` (`N` per texel; a trailing partial texel, which constructors
+    /// prevent, is not read).
+    #[inline(always)]
+    fn new(codes: &'a [u16], color: &'static Table16, alpha: &'static Table16) -> Self {
+        Self {
+            data: codes.as_chunks::<N>().0,
+            color,
+            alpha,
+        }
+    }
 }
 
 impl<const N: usize> TexelRead for Read16<'_, N> {
     #[inline(always)]
     fn read(&self, index: usize) -> Vec4 {
-        let Some(codes) = self
-            .data
-            .get(index * N..)
-            .and_then(|s| s.first_chunk::<N>())
-        else {
+        let Some(codes) = self.data.get(index) else {
             return Vec4::ONE;
         };
         let mut c = [0.0; 4];
@@ -229,6 +249,28 @@ pub trait TexelVisitor {
     type Output;
     /// Does the work with `reader`.
     fn visit<R: TexelRead>(self, reader: R) -> Self::Output;
+}
+
+/// Work done with the readers of two texel stores at once ([`Texels::visit_pair`]): the two
+/// levels a trilinear lookup blends.
+pub trait TexelPairVisitor {
+    /// What the work returns.
+    type Output;
+    /// Does the work with `a` (the first store's reader) and `b` (the second's).
+    fn visit<R: TexelRead>(self, a: R, b: R) -> Self::Output;
+}
+
+/// Reads any storage one texel at a time ([`Texels::texel`]): the pair reader for two stores of
+/// different formats, which MIP chains never have (every level keeps the base's format), so
+/// that case is correct rather than fast.
+#[derive(Clone, Copy)]
+pub struct ReadAny<'a>(&'a Texels);
+
+impl TexelRead for ReadAny<'_> {
+    #[inline]
+    fn read(&self, index: usize) -> Vec4 {
+        self.0.texel(index)
+    }
 }
 
 /// Nearest code to a linear value `v` in a monotone `table`: the code whose entry is closest
@@ -371,21 +413,77 @@ impl Texels {
             Data::U8(data) => {
                 let (color, alpha) = (table8(self.space), table8(ColorSpace::Linear));
                 match self.channels {
-                    1 => visitor.visit(Read8::<1> { data, color, alpha }),
-                    2 => visitor.visit(Read8::<2> { data, color, alpha }),
-                    3 => visitor.visit(Read8::<3> { data, color, alpha }),
-                    _ => visitor.visit(Read8::<4> { data, color, alpha }),
+                    1 => visitor.visit(Read8::<1>::new(data, color, alpha)),
+                    2 => visitor.visit(Read8::<2>::new(data, color, alpha)),
+                    3 => visitor.visit(Read8::<3>::new(data, color, alpha)),
+                    _ => visitor.visit(Read8::<4>::new(data, color, alpha)),
                 }
             }
             Data::U16(data) => {
                 let (color, alpha) = (table16(self.space), table16(ColorSpace::Linear));
                 match self.channels {
-                    1 => visitor.visit(Read16::<1> { data, color, alpha }),
-                    2 => visitor.visit(Read16::<2> { data, color, alpha }),
-                    3 => visitor.visit(Read16::<3> { data, color, alpha }),
-                    _ => visitor.visit(Read16::<4> { data, color, alpha }),
+                    1 => visitor.visit(Read16::<1>::new(data, color, alpha)),
+                    2 => visitor.visit(Read16::<2>::new(data, color, alpha)),
+                    3 => visitor.visit(Read16::<3>::new(data, color, alpha)),
+                    _ => visitor.visit(Read16::<4>::new(data, color, alpha)),
                 }
             }
+        }
+    }
+
+    /// Runs `visitor` with the readers of this storage and `other`, dispatched on the format
+    /// once for both: one compiled instance per format when they share it (precision, channel
+    /// layout and colour space, as the levels of one MIP chain do), [`ReadAny`] otherwise.
+    #[inline]
+    pub fn visit_pair<V: TexelPairVisitor>(&self, other: &Texels, visitor: V) -> V::Output {
+        let same_layout = self.channels == other.channels && self.space == other.space;
+        match (&self.data, &other.data) {
+            (Data::F32(a), Data::F32(b)) => visitor.visit(ReadF32 { data: a }, ReadF32 { data: b }),
+            (Data::U8(a), Data::U8(b)) if same_layout => {
+                let (color, alpha) = (table8(self.space), table8(ColorSpace::Linear));
+                let (a, b) = (&a[..], &b[..]);
+                match self.channels {
+                    1 => visitor.visit(
+                        Read8::<1>::new(a, color, alpha),
+                        Read8::<1>::new(b, color, alpha),
+                    ),
+                    2 => visitor.visit(
+                        Read8::<2>::new(a, color, alpha),
+                        Read8::<2>::new(b, color, alpha),
+                    ),
+                    3 => visitor.visit(
+                        Read8::<3>::new(a, color, alpha),
+                        Read8::<3>::new(b, color, alpha),
+                    ),
+                    _ => visitor.visit(
+                        Read8::<4>::new(a, color, alpha),
+                        Read8::<4>::new(b, color, alpha),
+                    ),
+                }
+            }
+            (Data::U16(a), Data::U16(b)) if same_layout => {
+                let (color, alpha) = (table16(self.space), table16(ColorSpace::Linear));
+                let (a, b) = (&a[..], &b[..]);
+                match self.channels {
+                    1 => visitor.visit(
+                        Read16::<1>::new(a, color, alpha),
+                        Read16::<1>::new(b, color, alpha),
+                    ),
+                    2 => visitor.visit(
+                        Read16::<2>::new(a, color, alpha),
+                        Read16::<2>::new(b, color, alpha),
+                    ),
+                    3 => visitor.visit(
+                        Read16::<3>::new(a, color, alpha),
+                        Read16::<3>::new(b, color, alpha),
+                    ),
+                    _ => visitor.visit(
+                        Read16::<4>::new(a, color, alpha),
+                        Read16::<4>::new(b, color, alpha),
+                    ),
+                }
+            }
+            _ => visitor.visit(ReadAny(self), ReadAny(other)),
         }
     }
 

@@ -19,9 +19,10 @@
 //! that is not finite (a differential that could not be carried) reads the coarsest level,
 //! the texture's mean: blurry, never NaN.
 
-use super::image::TexelGrid;
+use super::image::{Reader, TexelGrid, Wrap};
 use super::mipmap::MipMap;
 use crate::scene::MagFilter;
+use crate::scene::texels::{TexelPairVisitor, TexelRead, TexelVisitor};
 use glam::{Vec2, Vec4};
 
 /// Largest major/minor axis ratio the anisotropic filter honours (probes per lookup).
@@ -107,27 +108,203 @@ pub fn lookup(mip: &MipMap, uv: Vec2, footprint: &UvFootprint, filter: TextureFi
 /// Trilinear interpolation at level of detail `lod` (magnification below 0, the coarsest
 /// level for +∞ or NaN).
 fn trilinear(mip: &MipMap, uv: Vec2, lod: f32) -> Vec4 {
-    let top = (mip.level_count() - 1) as f32;
-    if lod <= 0.0 {
-        return magnify(mip, mip.level(0), uv);
-    }
-    if lod.is_nan() || lod >= top {
-        return mip.level(mip.level_count() - 1).bilinear(uv, mip.wrap);
-    }
-    let l0 = lod.floor();
-    let f = lod - l0;
-    let l0 = l0 as usize;
-    let a = mip.level(l0).bilinear(uv, mip.wrap);
-    let b = mip.level(l0 + 1).bilinear(uv, mip.wrap);
-    a.lerp(b, f)
+    probe_mean(mip, Probes::one(uv), lod)
 }
 
-/// Base-level reconstruction with the sampler's magnification filter.
+/// Where a lookup at one level of detail reads; every probe of a lookup shares it.
+#[derive(Clone, Copy)]
+enum Levels {
+    /// The base level with the sampler's magnification filter (`lod ≤ 0`).
+    Magnify,
+    /// The coarsest level, bilinear (`lod` at or above it, or NaN).
+    Coarsest,
+    /// Bilinear on levels `fine` and `fine + 1`, blended by `f` (the fraction of `lod`).
+    Pair { fine: usize, f: f32 },
+}
+
+impl Levels {
+    #[inline]
+    fn at(mip: &MipMap, lod: f32) -> Self {
+        let top = (mip.level_count() - 1) as f32;
+        if lod <= 0.0 {
+            return Self::Magnify;
+        }
+        if lod.is_nan() || lod >= top {
+            return Self::Coarsest;
+        }
+        // 0 < lod < top < 64 (each level halves a u32 side): truncation is the floor, and
+        // both conversions are exact, so this is `lod.floor()` and `lod - lod.floor()`
+        // without the floor's library call.
+        let fine = lod as u32;
+        Self::Pair {
+            fine: fine as usize,
+            f: lod - fine as f32,
+        }
+    }
+}
+
+/// The probe points of one lookup: `uv` alone, or the centres of `count` equal segments of
+/// the footprint's major axis `step`, which spans −½ … +½ of it around `uv`.
+#[derive(Clone, Copy)]
+struct Probes {
+    uv: Vec2,
+    step: Vec2,
+    count: u32,
+}
+
+impl Probes {
+    fn one(uv: Vec2) -> Self {
+        Self {
+            uv,
+            step: Vec2::ZERO,
+            count: 1,
+        }
+    }
+
+    /// The mean of `probe` over the points (the single point's value itself for one).
+    #[inline(always)]
+    fn mean<P: Probe>(&self, probe: &P) -> Vec4 {
+        if self.count == 1 {
+            return probe.at(self.uv);
+        }
+        let mut sum = Vec4::ZERO;
+        for i in 0..self.count {
+            let offset = (i as f32 + 0.5) / self.count as f32 - 0.5;
+            sum += probe.at(self.uv + self.step * offset);
+        }
+        sum / self.count as f32
+    }
+}
+
+/// One probe's reconstruction at a point: a trait rather than a closure so that it is
+/// inlined into the probe loop (with the level's size and wrap rules held in registers).
+trait Probe {
+    fn at(&self, uv: Vec2) -> Vec4;
+}
+
+/// Nearest or bilinear on one level.
+struct OneLevelProbe<R> {
+    level: Reader<R>,
+    wrap: Wrap,
+    nearest: bool,
+}
+
+impl<R: TexelRead> Probe for OneLevelProbe<R> {
+    #[inline(always)]
+    fn at(&self, uv: Vec2) -> Vec4 {
+        if self.nearest {
+            self.level.nearest(uv, self.wrap)
+        } else {
+            self.level.bilinear(uv, self.wrap)
+        }
+    }
+}
+
+/// Bilinear on two levels, blended by `f`.
+struct TwoLevelProbe<R> {
+    fine: Reader<R>,
+    coarse: Reader<R>,
+    f: f32,
+    wrap: Wrap,
+}
+
+impl<R: TexelRead> Probe for TwoLevelProbe<R> {
+    #[inline(always)]
+    fn at(&self, uv: Vec2) -> Vec4 {
+        self.fine
+            .bilinear(uv, self.wrap)
+            .lerp(self.coarse.bilinear(uv, self.wrap), self.f)
+    }
+}
+
+/// The mean of the trilinear probes at `lod`: the levels chosen once, and each level's storage
+/// format dispatched once for all probes (the per-probe arithmetic is that of
+/// [`TexelGrid::bilinear`] and [`TexelGrid::nearest`]).
+fn probe_mean(mip: &MipMap, probes: Probes, lod: f32) -> Vec4 {
+    let wrap = mip.wrap;
+    match Levels::at(mip, lod) {
+        Levels::Magnify => mip.level(0).texels.visit(OneLevel {
+            grid: mip.level(0),
+            probes,
+            wrap,
+            nearest: mip.mag_filter == MagFilter::Nearest,
+        }),
+        Levels::Coarsest => {
+            let grid = mip.level(mip.level_count() - 1);
+            grid.texels.visit(OneLevel {
+                grid,
+                probes,
+                wrap,
+                nearest: false,
+            })
+        }
+        Levels::Pair { fine, f } => {
+            let (a, b) = (mip.level(fine), mip.level(fine + 1));
+            a.texels.visit_pair(
+                &b.texels,
+                TwoLevels {
+                    grids: (a, b),
+                    f,
+                    probes,
+                    wrap,
+                },
+            )
+        }
+    }
+}
+
+/// Probes on one level, nearest or bilinear.
+struct OneLevel<'a> {
+    grid: &'a TexelGrid,
+    probes: Probes,
+    wrap: Wrap,
+    nearest: bool,
+}
+
+impl TexelVisitor for OneLevel<'_> {
+    type Output = Vec4;
+
+    #[inline(always)]
+    fn visit<R: TexelRead>(self, reader: R) -> Vec4 {
+        self.probes.mean(&OneLevelProbe {
+            level: Reader::new(reader, self.grid),
+            wrap: self.wrap,
+            nearest: self.nearest,
+        })
+    }
+}
+
+/// Trilinear probes: bilinear on two adjacent levels, blended.
+struct TwoLevels<'a> {
+    grids: (&'a TexelGrid, &'a TexelGrid),
+    f: f32,
+    probes: Probes,
+    wrap: Wrap,
+}
+
+impl TexelPairVisitor for TwoLevels<'_> {
+    type Output = Vec4;
+
+    #[inline(always)]
+    fn visit<R: TexelRead>(self, a: R, b: R) -> Vec4 {
+        self.probes.mean(&TwoLevelProbe {
+            fine: Reader::new(a, self.grids.0),
+            coarse: Reader::new(b, self.grids.1),
+            f: self.f,
+            wrap: self.wrap,
+        })
+    }
+}
+
+/// `x.ceil()` for `x ≥ 0` below 2²⁴ (exact there) without the library call, saturating for
+/// larger or infinite `x`; 0 for NaN.
 #[inline]
-fn magnify(mip: &MipMap, base: &TexelGrid, uv: Vec2) -> Vec4 {
-    match mip.mag_filter {
-        MagFilter::Nearest => base.nearest(uv, mip.wrap),
-        MagFilter::Linear => base.bilinear(uv, mip.wrap),
+fn ceil_positive(x: f32) -> u32 {
+    let t = x as u32;
+    if (t as f32) < x {
+        t.saturating_add(1)
+    } else {
+        t
     }
 }
 
@@ -152,24 +329,23 @@ fn anisotropic(mip: &MipMap, uv: Vec2, footprint: &UvFootprint) -> Vec4 {
         return trilinear(mip, uv, minor.max(major).log2());
     }
     let lod = minor.log2();
-    let probes = (major / minor).ceil().clamp(1.0, MAX_ANISOTROPY) as u32;
-    if probes == 1 {
-        return trilinear(mip, uv, lod);
-    }
-    // Probes at the centres of `probes` equal segments of the major axis, which spans
-    // −½ … +½ of the footprint vector (the pixel's extent).
-    let mut sum = Vec4::ZERO;
-    for i in 0..probes {
-        let offset = (i as f32 + 0.5) / probes as f32 - 0.5;
-        sum += trilinear(mip, uv + major_uv * offset, lod);
-    }
-    sum / probes as f32
+    // major / minor is in [1, MAX_ANISOTROPY] up to rounding (minor ≥ major / 16 > 0), where
+    // `ceil_positive` is exact.
+    let probes = ceil_positive(major / minor).clamp(1, MAX_ANISOTROPY as u32);
+    probe_mean(
+        mip,
+        Probes {
+            uv,
+            step: major_uv,
+            count: probes,
+        },
+        lod,
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::texture::image::Wrap;
 
     fn checker(n: u32) -> MipMap {
         let texels: Vec<Vec4> = (0..n * n)

@@ -47,28 +47,55 @@ pub struct Wrap {
     pub t: WrapMode,
 }
 
+/// Below this magnitude every f64 is an integer plus a fraction that [`split`] finds by
+/// truncation (2⁵²: from there on every f64 is an integer).
+const SPLIT_EXACT: f64 = 4_503_599_627_370_496.0;
+
 /// A texel coordinate split into its integer part and the fraction in [0, 1).
-#[inline]
+///
+/// The floor is taken by truncation to an integer and a correction for negative values: the
+/// baseline x86-64 target has no rounding instruction, so `f64::floor` is a library call, and
+/// this is the innermost arithmetic of every filter. For |st| < 2⁵² the truncated value is
+/// exact, so the result is bit for bit `(st.floor() as i64, (st - st.floor()) as f32)` (the
+/// `+ 0.0` turns the fraction −0 of `st = −0` into the +0 that expression gives); larger or
+/// NaN coordinates take that expression itself.
+#[inline(always)]
 fn split(st: f64) -> (i64, f32) {
-    let floor = st.floor();
-    // `as` saturates, so an absurd coordinate clamps instead of wrapping around i64.
-    (floor as i64, (st - floor) as f32)
+    if st.abs() < SPLIT_EXACT {
+        let t = st as i64;
+        let floor = if (t as f64) > st { t - 1 } else { t };
+        // |floor| < 2⁵², so `floor as f64` is exact: the same fraction as below.
+        (floor, ((st - floor as f64) + 0.0) as f32)
+    } else {
+        let floor = st.floor();
+        // `as` saturates, so an absurd coordinate clamps instead of wrapping around i64.
+        (floor as i64, (st - floor) as f32)
+    }
 }
 
-/// Texel-space position of `uv` on a grid of `width × height` (f64: see the module notes).
-#[inline]
-fn texel_space(uv: Vec2, width: u32, height: u32) -> DVec2 {
-    let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
-    uv.as_dvec2() * DVec2::new(f64::from(width), f64::from(height))
-}
-
-/// [`wrap`] without its integer division for the common case of a coordinate already inside
-/// the grid.
+/// [`wrap`] without its integer division for the common cases: a coordinate already inside
+/// the grid, and a repeating power-of-two side (where the Euclidean remainder is a mask of the
+/// two's-complement bits). Texture coordinates outside [0, 1] are common (DamagedHelmet's v
+/// runs from 1 to 2), and a 64-bit division costs tens of cycles.
 #[inline(always)]
 fn wrap_fast(i: i64, size: u32, mode: WrapMode) -> usize {
     if (i as u64) < u64::from(size) {
         // 0 ≤ i < size ≤ u32::MAX.
         i as usize
+    } else if mode == WrapMode::Repeat {
+        let n = i64::from(size);
+        if size.is_power_of_two() {
+            // i mod 2ᵏ for every i (negative ones included) is its low k bits: < size.
+            (i & (n - 1)) as usize
+        } else if (n..2 * n).contains(&i) {
+            // One period past the end: i − n in [0, n).
+            (i - n) as usize
+        } else if (-n..0).contains(&i) {
+            // One period before the start: i + n in [0, n).
+            (i + n) as usize
+        } else {
+            wrap(i, size, mode)
+        }
     } else {
         wrap(i, size, mode)
     }
@@ -96,11 +123,7 @@ impl TexelVisitor for Point {
 
     #[inline(always)]
     fn visit<R: TexelRead>(self, reader: R) -> Vec4 {
-        let grid = Reader {
-            reader,
-            width: self.width,
-            height: self.height,
-        };
+        let grid = Reader::sized(reader, self.width, self.height);
         match self.filter {
             Reconstruct::Nearest => grid.nearest(self.uv, self.wrap),
             Reconstruct::Bilinear => grid.bilinear(self.uv, self.wrap),
@@ -110,30 +133,60 @@ impl TexelVisitor for Point {
 }
 
 /// A grid's size with the reader of its storage format: the filters, compiled per format.
-struct Reader<R> {
+/// Filters that read many points of one level visit its storage once and reuse this
+/// ([`crate::texture::filter`]).
+pub(crate) struct Reader<R> {
     reader: R,
     width: u32,
     height: u32,
+    /// `(width, height)` in f64, the scale of [`Self::texel_space`].
+    size: DVec2,
 }
 
 impl<R: TexelRead> Reader<R> {
+    /// `grid`'s size with `reader`, which must read `grid`'s texels.
+    #[inline(always)]
+    pub(crate) fn new(reader: R, grid: &TexelGrid) -> Self {
+        Self::sized(reader, grid.width, grid.height)
+    }
+
+    #[inline(always)]
+    fn sized(reader: R, width: u32, height: u32) -> Self {
+        Self {
+            reader,
+            width,
+            height,
+            size: DVec2::new(f64::from(width), f64::from(height)),
+        }
+    }
+
+    /// Texel-space position of `uv` (f64: see the module notes); a non-finite `uv` reads at
+    /// (0, 0).
+    #[inline(always)]
+    fn texel_space(&self, uv: Vec2) -> DVec2 {
+        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+        uv.as_dvec2() * self.size
+    }
+
     #[inline(always)]
     fn at(&self, ix: usize, iy: usize) -> Vec4 {
         self.reader.read(iy * self.width as usize + ix)
     }
 
+    /// [`TexelGrid::nearest`].
     #[inline(always)]
-    fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
-        let st = texel_space(uv, self.width, self.height);
+    pub(crate) fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = self.texel_space(uv);
         self.at(
             wrap_fast(split(st.x).0, self.width, wrap.s),
             wrap_fast(split(st.y).0, self.height, wrap.t),
         )
     }
 
+    /// [`TexelGrid::bilinear`].
     #[inline(always)]
-    fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
-        let st = texel_space(uv, self.width, self.height) - 0.5;
+    pub(crate) fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+        let st = self.texel_space(uv) - 0.5;
         let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
         let (x0, x1) = (
             wrap_fast(x, self.width, wrap.s),
@@ -150,7 +203,7 @@ impl<R: TexelRead> Reader<R> {
 
     #[inline(always)]
     fn bicubic(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
-        let st = texel_space(uv, self.width, self.height) - 0.5;
+        let st = self.texel_space(uv) - 0.5;
         let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
         let (wx, wy) = (catmull_rom_weights(fx), catmull_rom_weights(fy));
         let xs: [usize; 4] =
@@ -256,6 +309,40 @@ mod tests {
             assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-6);
         }
         assert_eq!(catmull_rom_weights(0.0), [0.0, 1.0, 0.0, 0.0]);
+    }
+
+    /// `split` against `f64::floor` bit for bit: integers, halves, neighbours of integers, the
+    /// signed zeros, both sides of the 2⁵¹ switch, huge and non-finite values.
+    #[test]
+    fn split_is_the_floor_and_its_fraction() {
+        let reference = |st: f64| {
+            let floor = st.floor();
+            (floor as i64, ((st - floor) as f32).to_bits())
+        };
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            f64::NAN,
+            f64::INFINITY,
+            -f64::INFINITY,
+        ];
+        for k in [1.0, 3.0, 1e6, 2f64.powi(51), 2f64.powi(52), 1e30] {
+            for v in [k, -k, k + 0.5, -k - 0.5, k.next_up(), k.next_down()] {
+                values.extend([v, -v]);
+            }
+        }
+        let mut x = 0x1234_5678_9abc_def0u64;
+        for _ in 0..100_000 {
+            x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            let scale = 2f64.powi((x >> 58) as i32 - 8);
+            values.push(((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale);
+        }
+        for st in values {
+            let (i, f) = split(st);
+            assert_eq!((i, f.to_bits()), reference(st), "{st:e}");
+        }
     }
 
     #[test]
