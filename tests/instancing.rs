@@ -217,6 +217,28 @@ fn placed_models_render_like_their_baked_copies() {
     }
 }
 
+/// 2CylinderEngine draws 34 meshes 115 times: loaded with sharing, it renders like the same
+/// scene with every placement baked, in both backends.
+#[test]
+fn a_file_with_shared_meshes_renders_like_its_baked_copy() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/scenes/2CylinderEngine/2CylinderEngine.glb");
+    let scene = lit(glint::scene::gltf::load(&path).expect("load"));
+    assert!(
+        scene.meshes.iter().any(|m| m.instances.len() > 1),
+        "meshes are shared"
+    );
+    let flat = flattened(&scene);
+    assert!(flat.meshes.len() > scene.meshes.len());
+    let camera = framing(&scene);
+    for backend in BackendKind::available() {
+        let s = settings(Integrator::Direct, 1);
+        let a = render_with(&scene, &camera, *backend, &s);
+        let b = render_with(&flat, &camera, *backend, &s);
+        assert_same_picture(&format!("2CylinderEngine {backend}"), &a, &b, 0.01, 2e-3);
+    }
+}
+
 /// A placed emitter lights the floor as its baked copies do (path tracer, next-event
 /// estimation on the placed triangles, one copy mirrored so its front face is carried over).
 ///
