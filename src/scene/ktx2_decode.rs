@@ -1,0 +1,370 @@
+//! Decoding KTX2 images with Basis Universal payloads (KHR_texture_basisu) into compact
+//! texels ([`Texels`]).
+//!
+//! The container is read with the `ktx2` crate (header, Data Format Descriptor, key/value
+//! metadata) and checked against what KHR_texture_basisu allows before anything is
+//! transcoded: a 2D image (no depth, array layers or cube faces) whose payload is ETC1S with
+//! BasisLZ supercompression or UASTC LDR with none or Zstandard. Its size is checked against
+//! the caller's texel budget from the header, before the transcoder allocates. The base level
+//! is then transcoded to RGBA8 by the pure-Rust `basisu` transcoder and stored like an 8-bit
+//! PNG (see [`super::texture_decode`]): the file's own smaller levels are not used, because
+//! glint builds one MIP chain per texture the same way for every image format, and a
+//! file's levels are each lossily encoded on their own.
+//!
+//! Colour space follows the glTF use of the texture (base colour and emissive sRGB, data
+//! maps linear), as for PNG and JPEG. KHR_texture_basisu requires the DFD transfer function to
+//! agree with that use; when it does not, the use wins and a note says so.
+//!
+//! Orientation: glTF puts the image's first texel at the top left, which is KTX2's `rd`
+//! (the default when `KTXorientation` is absent, and the only value KHR_texture_basisu
+//! allows). A file that declares another orientation is flipped to `rd`, with a note.
+
+use super::texels::Texels;
+use super::texture_decode::{ColorSpace, DecodedImage, u8_texels};
+
+/// Why a KTX2 image cannot be used. Each message says what is wrong and how to fix it.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Ktx2Error {
+    /// The bytes are not a well-formed KTX2 container (wrong magic, truncated, sections out
+    /// of range).
+    #[error("not a readable KTX2 file ({0}); re-export the texture")]
+    Container(String),
+    /// The container holds something other than a Basis Universal ETC1S or UASTC payload.
+    #[error(
+        "{0}; KHR_texture_basisu allows only Basis Universal ETC1S (BasisLZ) and UASTC payloads (re-encode it with `basisu` or `toktx --encode`)"
+    )]
+    NotBasis(String),
+    /// The container is not a single 2D image.
+    #[error("{0}; KHR_texture_basisu material textures must be single 2D images")]
+    Layout(String),
+    /// The base level is larger than the texel budget.
+    #[error(
+        "it is {width}×{height} = {pixels} texels, over the budget of {max} \
+         (raise it with --max-texture-pixels {pixels}, or downscale the image)"
+    )]
+    TooLarge {
+        /// Width from the header.
+        width: u32,
+        /// Height from the header.
+        height: u32,
+        /// width × height.
+        pixels: u64,
+        /// The budget.
+        max: u64,
+    },
+    /// The payload does not transcode (corrupt or truncated level data or codebooks).
+    #[error("the Basis Universal payload does not transcode ({0}); re-export the texture")]
+    Transcode(String),
+}
+
+/// The payload kinds KHR_texture_basisu allows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BasisPayload {
+    /// ETC1S with BasisLZ supercompression (lossy, small).
+    Etc1s,
+    /// UASTC LDR 4×4, optionally Zstandard-supercompressed (near-lossless).
+    Uastc {
+        /// Whether the levels are Zstandard frames.
+        zstd: bool,
+    },
+}
+
+/// What the header says about a KTX2 image, read without transcoding it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Ktx2Info {
+    /// Base-level width in texels.
+    pub width: u32,
+    /// Base-level height in texels.
+    pub height: u32,
+    /// ETC1S or UASTC.
+    pub payload: BasisPayload,
+    /// The colour space the DFD's transfer function names (`None` when it names neither
+    /// linear nor sRGB).
+    pub transfer: Option<ColorSpace>,
+    /// Whether the DFD marks the colour as premultiplied by alpha.
+    pub premultiplied: bool,
+    /// `KTXorientation` (e.g. `rd`), when present.
+    pub orientation: Option<String>,
+}
+
+/// Whether `bytes` start with the KTX2 file identifier.
+pub fn is_ktx2(bytes: &[u8]) -> bool {
+    bytes.starts_with(&::ktx2::MAGIC)
+}
+
+/// Reads and checks the container's header, DFD and metadata without transcoding.
+pub fn probe(bytes: &[u8]) -> Result<Ktx2Info, Ktx2Error> {
+    let reader = ::ktx2::Reader::new(bytes).map_err(|err| Ktx2Error::Container(err.to_string()))?;
+    let header = reader.header();
+    if let Some(format) = header.format {
+        return Err(Ktx2Error::NotBasis(format!(
+            "its vkFormat is {} ({format:?}), a GPU format rather than VK_FORMAT_UNDEFINED",
+            format.value()
+        )));
+    }
+    if header.pixel_height == 0 || header.pixel_depth != 0 {
+        return Err(Ktx2Error::Layout(format!(
+            "it is {}-dimensional (pixelHeight {}, pixelDepth {})",
+            if header.pixel_height == 0 { 1 } else { 3 },
+            header.pixel_height,
+            header.pixel_depth
+        )));
+    }
+    if header.layer_count > 1 || header.face_count != 1 {
+        return Err(Ktx2Error::Layout(format!(
+            "it has {} array layers and {} faces",
+            header.layer_count, header.face_count
+        )));
+    }
+    let model = reader.color_model();
+    let scheme = header.supercompression_scheme;
+    let payload = match (model, scheme) {
+        (Some(::ktx2::ColorModel::ETC1S), Some(::ktx2::SupercompressionScheme::BasisLZ)) => {
+            BasisPayload::Etc1s
+        }
+        (Some(::ktx2::ColorModel::UASTC), None) => BasisPayload::Uastc { zstd: false },
+        (Some(::ktx2::ColorModel::UASTC), Some(::ktx2::SupercompressionScheme::Zstandard)) => {
+            BasisPayload::Uastc { zstd: true }
+        }
+        (Some(model @ (::ktx2::ColorModel::ETC1S | ::ktx2::ColorModel::UASTC)), scheme) => {
+            return Err(Ktx2Error::NotBasis(format!(
+                "its DFD colour model is {model:?} with supercompression {}, a combination KHR_texture_basisu \
+                 does not allow (ETC1S needs BasisLZ; UASTC needs none or Zstandard)",
+                describe_scheme(scheme)
+            )));
+        }
+        (model, _) => {
+            return Err(Ktx2Error::NotBasis(format!(
+                "its DFD colour model is {}",
+                model.map_or_else(|| "missing or unknown".to_string(), |m| format!("{m:?}"))
+            )));
+        }
+    };
+    let transfer = match reader.transfer_function() {
+        Some(::ktx2::TransferFunction::SRGB) => Some(ColorSpace::Srgb),
+        Some(::ktx2::TransferFunction::Linear) => Some(ColorSpace::Linear),
+        _ => None,
+    };
+    let orientation = reader
+        .key_value_data()
+        .find(|(key, _)| *key == "KTXorientation")
+        .map(|(_, value)| {
+            let text = value.split(|&b| b == 0).next().unwrap_or_default();
+            String::from_utf8_lossy(text).into_owned()
+        });
+    Ok(Ktx2Info {
+        width: header.pixel_width,
+        height: header.pixel_height,
+        payload,
+        transfer,
+        premultiplied: reader.is_alpha_premultiplied().unwrap_or(false),
+        orientation,
+    })
+}
+
+/// Checks the base level's stored size against the header's dimensions. The transcoder
+/// inflates a Zstandard level into a buffer of the length the level index declares, and
+/// indexes plain levels by block: both must be the base level's exact size (16 bytes per
+/// 4×4 UASTC block), or a hostile file could ask for any allocation. (BasisLZ levels are
+/// bounded by the file: their slices are located through the global data.)
+fn check_base_level(bytes: &[u8], info: &Ktx2Info) -> Result<(), Ktx2Error> {
+    let BasisPayload::Uastc { zstd } = info.payload else {
+        return Ok(());
+    };
+    let reader = ::ktx2::Reader::new(bytes).map_err(|err| Ktx2Error::Container(err.to_string()))?;
+    let blocks = u64::from(info.width.div_ceil(4)) * u64::from(info.height.div_ceil(4));
+    let want = blocks * 16;
+    let level = reader
+        .levels()
+        .next()
+        .ok_or_else(|| Ktx2Error::Container("it has no levels".to_string()))?;
+    let declared = if zstd {
+        level.uncompressed_byte_length
+    } else {
+        level.data.len() as u64
+    };
+    if declared != want {
+        return Err(Ktx2Error::Container(format!(
+            "its base level holds {declared} bytes of UASTC blocks, but a {}×{} image has {want}",
+            info.width, info.height
+        )));
+    }
+    Ok(())
+}
+
+fn describe_scheme(scheme: Option<::ktx2::SupercompressionScheme>) -> String {
+    scheme.map_or_else(|| "none".to_string(), |s| format!("{s:?}"))
+}
+
+/// Decodes a KTX2 / Basis Universal image held in memory to texels read in `space`.
+///
+/// `max_pixels` bounds the base level's texel count; it is checked from the header before
+/// the transcoder allocates anything. Returns the image and notes about what was adjusted
+/// (a DFD transfer function that disagrees with `space`, a non-`rd` orientation, a
+/// premultiplied-alpha flag), for the caller to pass on as warnings.
+pub fn decode_ktx2(
+    bytes: &[u8],
+    space: ColorSpace,
+    max_pixels: u64,
+) -> Result<(DecodedImage, Vec<String>), Ktx2Error> {
+    let info = probe(bytes)?;
+    let (width, height) = (info.width, info.height);
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > max_pixels {
+        return Err(Ktx2Error::TooLarge {
+            width,
+            height,
+            pixels,
+            max: max_pixels,
+        });
+    }
+    check_base_level(bytes, &info)?;
+    let mut notes = Vec::new();
+    if let Some(declared) = info.transfer.filter(|&t| t != space) {
+        notes.push(format!(
+            "its DFD transfer function says {} but glTF uses the texture as {} data; decoded as {}",
+            space_name(declared),
+            space_name(space),
+            space_name(space)
+        ));
+    }
+    if info.premultiplied {
+        notes.push(
+            "its DFD marks alpha as premultiplied, which KHR_texture_basisu forbids for material \
+             textures; the colour is used as stored"
+                .to_string(),
+        );
+    }
+    let transcoder =
+        ::basisu::Transcoder::new(bytes).map_err(|err| Ktx2Error::Transcode(describe(&err)))?;
+    let expected = match info.payload {
+        BasisPayload::Etc1s => ::basisu::SourceFormat::Etc1s,
+        BasisPayload::Uastc { .. } => ::basisu::SourceFormat::UastcLdr,
+    };
+    if transcoder.source_format() != expected {
+        return Err(Ktx2Error::NotBasis(format!(
+            "the DFD says {:?} but the payload is {:?}",
+            info.payload,
+            transcoder.source_format()
+        )));
+    }
+    let rgba = transcoder
+        .transcode(
+            0,
+            ::basisu::TargetFormat::Rgba32,
+            ::basisu::DecodeFlags::NONE,
+        )
+        .map_err(|err| Ktx2Error::Transcode(describe(&err)))?;
+    // `pixels` is at most `max_pixels`, which the caller sized to fit memory.
+    let texel_count = usize::try_from(pixels).unwrap_or(usize::MAX);
+    if rgba.len() != texel_count.saturating_mul(4) {
+        return Err(Ktx2Error::Transcode(format!(
+            "the base level decoded to {} bytes, not {width}×{height}×4",
+            rgba.len()
+        )));
+    }
+    let rgba = match info.orientation.as_deref() {
+        None | Some("rd") => rgba,
+        Some(orientation) => {
+            let (flip_x, flip_y) = orientation_flips(orientation);
+            notes.push(format!(
+                "its KTXorientation is \"{orientation}\" (KHR_texture_basisu requires \"rd\"); the image \
+                 is flipped to glTF's top-left origin"
+            ));
+            flip(rgba, width as usize, height as usize, flip_x, flip_y)
+        }
+    };
+    let texels: Texels = u8_texels(4, space, rgba);
+    Ok((
+        DecodedImage {
+            width,
+            height,
+            texels,
+        },
+        notes,
+    ))
+}
+
+fn space_name(space: ColorSpace) -> &'static str {
+    match space {
+        ColorSpace::Srgb => "sRGB",
+        ColorSpace::Linear => "linear",
+    }
+}
+
+/// Which axes to mirror to turn a `KTXorientation` into `rd`: its first letter is the
+/// direction of increasing x (`r` or `l`), its second that of increasing y (`d` or `u`).
+fn orientation_flips(orientation: &str) -> (bool, bool) {
+    let mut letters = orientation.chars();
+    let flip_x = letters.next() == Some('l');
+    let flip_y = letters.next() == Some('u');
+    (flip_x, flip_y)
+}
+
+/// Mirrors an RGBA8 image (`width × height` texels, rows top first) about the chosen axes.
+fn flip(rgba: Vec<u8>, width: usize, height: usize, flip_x: bool, flip_y: bool) -> Vec<u8> {
+    if !flip_x && !flip_y {
+        return rgba;
+    }
+    let row = width * 4;
+    let mut out = Vec::with_capacity(rgba.len());
+    for y in 0..height {
+        let source_y = if flip_y { height - 1 - y } else { y };
+        let source = &rgba[source_y * row..(source_y + 1) * row];
+        if flip_x {
+            for texel in source.chunks_exact(4).rev() {
+                out.extend_from_slice(texel);
+            }
+        } else {
+            out.extend_from_slice(source);
+        }
+    }
+    out
+}
+
+/// The transcoder's error in words (its type has no `Display`).
+fn describe(err: &::basisu::Error) -> String {
+    match err {
+        ::basisu::Error::InvalidData => "corrupt or unsupported data".to_string(),
+        ::basisu::Error::Truncated => "truncated, or an offset is out of range".to_string(),
+        ::basisu::Error::ZstdRequired => {
+            "Zstandard-compressed levels need the transcoder's zstd support".to_string()
+        }
+        other => format!("{other:?}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orientation_letters_pick_the_mirrored_axes() {
+        assert_eq!(orientation_flips("rd"), (false, false));
+        assert_eq!(orientation_flips("ru"), (false, true));
+        assert_eq!(orientation_flips("ld"), (true, false));
+        assert_eq!(orientation_flips("lu"), (true, true));
+    }
+
+    /// A 2×2 image whose texels are numbered 0..4 row-major comes back mirrored.
+    #[test]
+    fn flip_mirrors_rows_and_columns() {
+        let image: Vec<u8> = (0u8..4).flat_map(|i| [i, 0, 0, 255]).collect();
+        let red = |v: &[u8]| v.chunks_exact(4).map(|t| t[0]).collect::<Vec<_>>();
+        assert_eq!(red(&flip(image.clone(), 2, 2, false, true)), [2, 3, 0, 1]);
+        assert_eq!(red(&flip(image.clone(), 2, 2, true, false)), [1, 0, 3, 2]);
+        assert_eq!(red(&flip(image, 2, 2, true, true)), [3, 2, 1, 0]);
+    }
+
+    #[test]
+    fn wrong_magic_and_truncation_are_container_errors() {
+        assert!(matches!(
+            probe(b"not a ktx2 file at all"),
+            Err(Ktx2Error::Container(_))
+        ));
+        let mut header = ::ktx2::MAGIC.to_vec();
+        header.extend_from_slice(&[0; 20]);
+        assert!(is_ktx2(&header));
+        assert!(matches!(probe(&header), Err(Ktx2Error::Container(_))));
+    }
+}
