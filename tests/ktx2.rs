@@ -598,3 +598,23 @@ fn a_bottom_up_ktxorientation_is_flipped_to_gltf_top_down_with_a_note() {
         }
     }
 }
+
+#[test]
+fn a_ktx2_image_in_a_buffer_view_loads_like_a_data_uri() {
+    let source = test_image(false);
+    let ktx2 = encode(&source, Codec::Etc1s, true);
+    let mut fixture = Fixture::new();
+    let view = fixture.view(&ktx2);
+    let rest = quad_document(
+        &mut fixture,
+        json!([basisu_texture(0), basisu_texture(0)]),
+        json!([{"bufferView": view, "mimeType": "image/ktx2"}]),
+        false,
+    );
+    let from_view = fixture.load(rest).expect("load from a buffer view");
+    let from_uri = load_pair(&ktx2, &ktx2).expect("load from data URIs");
+    assert_eq!(
+        texture(&from_view.scene, 0).texels,
+        texture(&from_uri.scene, 0).texels
+    );
+}
