@@ -504,6 +504,14 @@ fn bad_ktx2_inputs_are_named_errors() {
     let message = load_error(&cube);
     assert!(message.contains("single 2D images"), "{message}");
 
+    // Key/value data ending off a 4-byte boundary (the transcoder's metadata scan would
+    // underflow on it).
+    let mut kvd = good.clone();
+    let length = u32::from_le_bytes(kvd[60..64].try_into().expect("4 bytes"));
+    kvd[60..64].copy_from_slice(&(length - 1).to_le_bytes());
+    let message = load_error(&kvd);
+    assert!(message.contains("4-byte boundary"), "{message}");
+
     // A Zstandard level declaring an absurd uncompressed length (the transcoder would
     // allocate it) is refused before transcoding.
     let level0_uncompressed = 80 + 16;
@@ -530,7 +538,7 @@ fn the_size_budget_is_checked_before_transcoding() {
     );
 }
 
-/// Every truncation of an encoded file and 3000 seeded corruptions (1–8 bytes overwritten)
+/// Every truncation of an encoded file and 6000 seeded corruptions (1–8 bytes overwritten)
 /// end in an image or a `Ktx2Error`, never a panic: the header checks, the container reader
 /// and the transcoder all see hostile bytes.
 #[test]
@@ -539,16 +547,30 @@ fn truncated_and_corrupted_ktx2_files_never_panic() {
     let mut rng = rand_pcg::Pcg64::seed_from_u64(15);
     for codec in [Codec::Etc1s, Codec::Uastc, Codec::UastcZstd] {
         let good = encode(&test_image(true), codec, true);
+        // The decoder turns a transcoder panic into `TranscoderPanicked`; none may occur.
+        let check = |bytes: &[u8]| {
+            let result = decode_ktx2(bytes, ColorSpace::Srgb, 1 << 20);
+            assert!(
+                !matches!(result, Err(Ktx2Error::TranscoderPanicked)),
+                "{codec:?}: the transcoder panicked"
+            );
+        };
         for len in 0..good.len() {
-            let _ = decode_ktx2(&good[..len], ColorSpace::Srgb, 1 << 20);
+            check(&good[..len]);
         }
-        for _ in 0..1000 {
+        for _ in 0..2000 {
             let mut bad = good.clone();
             for _ in 0..rng.random_range(1..=8) {
-                let at = rng.random_range(0..bad.len());
+                // Half the hits land in the header, level index, DFD, metadata and BasisLZ
+                // global data (the first 256 bytes), where the sizes and offsets live.
+                let at = if rng.random_bool(0.5) {
+                    rng.random_range(0..256.min(bad.len()))
+                } else {
+                    rng.random_range(0..bad.len())
+                };
                 bad[at] = rng.random();
             }
-            let _ = decode_ktx2(&bad, ColorSpace::Srgb, 1 << 20);
+            check(&bad);
         }
     }
 }

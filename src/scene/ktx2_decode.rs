@@ -52,6 +52,9 @@ pub enum Ktx2Error {
         /// The budget.
         max: u64,
     },
+    /// The transcoder panicked on the payload (a corrupt file it does not check for).
+    #[error("the Basis Universal transcoder failed on a corrupt payload; re-export the texture")]
+    TranscoderPanicked,
     /// The payload does not transcode (corrupt or truncated level data or codebooks).
     #[error("the Basis Universal payload does not transcode ({0}); re-export the texture")]
     Transcode(String),
@@ -94,7 +97,7 @@ pub fn is_ktx2(bytes: &[u8]) -> bool {
 
 /// Reads and checks the container's header, DFD and metadata without transcoding.
 pub fn probe(bytes: &[u8]) -> Result<Ktx2Info, Ktx2Error> {
-    let reader = ::ktx2::Reader::new(bytes).map_err(|err| Ktx2Error::Container(err.to_string()))?;
+    let reader = read_container(bytes)?;
     let header = reader.header();
     if let Some(format) = header.format {
         return Err(Ktx2Error::NotBasis(format!(
@@ -171,7 +174,7 @@ fn check_base_level(bytes: &[u8], info: &Ktx2Info) -> Result<(), Ktx2Error> {
     let BasisPayload::Uastc { zstd } = info.payload else {
         return Ok(());
     };
-    let reader = ::ktx2::Reader::new(bytes).map_err(|err| Ktx2Error::Container(err.to_string()))?;
+    let reader = read_container(bytes)?;
     let blocks = u64::from(info.width.div_ceil(4)) * u64::from(info.height.div_ceil(4));
     let want = blocks * 16;
     let level = reader
@@ -187,6 +190,76 @@ fn check_base_level(bytes: &[u8], info: &Ktx2Info) -> Result<(), Ktx2Error> {
         return Err(Ktx2Error::Container(format!(
             "its base level holds {declared} bytes of UASTC blocks, but a {}×{} image has {want}",
             info.width, info.height
+        )));
+    }
+    Ok(())
+}
+
+/// Parses the container with the `ktx2` crate, after refusing the one malformation that
+/// crate panics on (see [`check_dfd_block_dimensions`]).
+fn read_container(bytes: &[u8]) -> Result<::ktx2::Reader<&[u8]>, Ktx2Error> {
+    check_dfd_block_dimensions(bytes)?;
+    check_kvd_alignment(bytes)?;
+    ::ktx2::Reader::new(bytes).map_err(|err| Ktx2Error::Container(err.to_string()))
+}
+
+/// Refuses a basic DFD block whose `texelBlockDimension` bytes hold 255: the block
+/// dimension is stored minus one, and `ktx2` 0.5 adds the one back in a `u8` and unwraps a
+/// `NonZeroU8`, which panics on 255 (found by `tests/ktx2.rs`'s corruption test). The walk
+/// follows the crate's own: the DFD starts with its total length, then blocks of an 8-byte
+/// header (vendor id and descriptor type, version, block size) and their data. Anything it
+/// cannot follow is left for the crate to refuse.
+fn check_dfd_block_dimensions(bytes: &[u8]) -> Result<(), Ktx2Error> {
+    let word = |at: usize| -> Option<u32> {
+        Some(u32::from_le_bytes(
+            bytes.get(at..at.checked_add(4)?)?.try_into().ok()?,
+        ))
+    };
+    let (Some(offset), Some(length)) = (word(48), word(52)) else {
+        return Ok(());
+    };
+    let (offset, length) = (offset as usize, length as usize);
+    let Some(dfd) = offset
+        .checked_add(length)
+        .and_then(|end| bytes.get(offset..end))
+        .and_then(|dfd| dfd.get(4..))
+    else {
+        return Ok(());
+    };
+    let mut rest = dfd;
+    while rest.len() >= 8 {
+        let kind = u32::from_le_bytes([rest[0], rest[1], rest[2], rest[3]]);
+        let size = usize::from(u16::from_le_bytes([rest[6], rest[7]]));
+        // Vendor 0, type 0: the Khronos basic block (whatever its version; refusing more
+        // than the crate would parse is harmless here).
+        if kind == 0 && rest.get(12..16).is_some_and(|d| d.contains(&255)) {
+            return Err(Ktx2Error::Container(
+                "its data format descriptor declares a texel block dimension of 256".to_string(),
+            ));
+        }
+        if size == 0 || size > rest.len() {
+            break;
+        }
+        rest = &rest[size..];
+    }
+    Ok(())
+}
+
+/// Refuses key/value data that does not end on a 4-byte boundary. KTX2 pads every entry to 4
+/// bytes and the section starts aligned, so a valid file always passes; the `basisu`
+/// transcoder's metadata scan rounds its position up to 4 and subtracts it from the end,
+/// which underflows (a panic) when the end is unaligned (found by `tests/ktx2.rs`).
+fn check_kvd_alignment(bytes: &[u8]) -> Result<(), Ktx2Error> {
+    let word = |at: usize| -> Option<u32> {
+        Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
+    };
+    if let (Some(offset), Some(length)) = (word(56), word(60))
+        && length > 0
+        && !(u64::from(offset) + u64::from(length)).is_multiple_of(4)
+    {
+        return Err(Ktx2Error::Container(format!(
+            "its key/value data ends at byte {}, not on a 4-byte boundary",
+            u64::from(offset) + u64::from(length)
         )));
     }
     Ok(())
@@ -235,26 +308,33 @@ pub fn decode_ktx2(
                 .to_string(),
         );
     }
-    let transcoder =
-        ::basisu::Transcoder::new(bytes).map_err(|err| Ktx2Error::Transcode(describe(&err)))?;
     let expected = match info.payload {
         BasisPayload::Etc1s => ::basisu::SourceFormat::Etc1s,
         BasisPayload::Uastc { .. } => ::basisu::SourceFormat::UastcLdr,
     };
-    if transcoder.source_format() != expected {
-        return Err(Ktx2Error::NotBasis(format!(
-            "the DFD says {:?} but the payload is {:?}",
-            info.payload,
-            transcoder.source_format()
-        )));
-    }
-    let rgba = transcoder
-        .transcode(
-            0,
-            ::basisu::TargetFormat::Rgba32,
-            ::basisu::DecodeFlags::NONE,
-        )
-        .map_err(|err| Ktx2Error::Transcode(describe(&err)))?;
+    // The transcoder is young; the checks above and in `read_container` refuse the hostile
+    // inputs it is known to panic on, and any other panic it raises on a corrupt payload is
+    // turned into an error here rather than taking the process down (it only reads `bytes`
+    // and returns a new buffer, so nothing is left half-updated).
+    let transcoded = std::panic::catch_unwind(|| {
+        let transcoder =
+            ::basisu::Transcoder::new(bytes).map_err(|err| Ktx2Error::Transcode(describe(&err)))?;
+        if transcoder.source_format() != expected {
+            return Err(Ktx2Error::NotBasis(format!(
+                "the DFD says {:?} but the payload is {:?}",
+                info.payload,
+                transcoder.source_format()
+            )));
+        }
+        transcoder
+            .transcode(
+                0,
+                ::basisu::TargetFormat::Rgba32,
+                ::basisu::DecodeFlags::NONE,
+            )
+            .map_err(|err| Ktx2Error::Transcode(describe(&err)))
+    });
+    let rgba = transcoded.map_err(|_| Ktx2Error::TranscoderPanicked)??;
     // `pixels` is at most `max_pixels`, which the caller sized to fit memory.
     let texel_count = usize::try_from(pixels).unwrap_or(usize::MAX);
     if rgba.len() != texel_count.saturating_mul(4) {
@@ -354,6 +434,29 @@ mod tests {
         assert_eq!(red(&flip(image.clone(), 2, 2, false, true)), [2, 3, 0, 1]);
         assert_eq!(red(&flip(image.clone(), 2, 2, true, false)), [1, 0, 3, 2]);
         assert_eq!(red(&flip(image, 2, 2, true, true)), [3, 2, 1, 0]);
+    }
+
+    /// A basic DFD block with a texel block dimension byte of 255 is refused before the
+    /// `ktx2` crate (which panics on it) parses the container.
+    #[test]
+    fn a_dfd_block_dimension_of_256_is_refused_not_a_panic() {
+        let mut file = ::ktx2::MAGIC.to_vec();
+        file.resize(80, 0);
+        file[20..24].copy_from_slice(&4u32.to_le_bytes()); // width
+        file[24..28].copy_from_slice(&4u32.to_le_bytes()); // height
+        file[36..40].copy_from_slice(&1u32.to_le_bytes()); // faces
+        let dfd_offset = 104u32; // after the header and one 24-byte level index entry
+        file[48..52].copy_from_slice(&dfd_offset.to_le_bytes());
+        file[52..56].copy_from_slice(&(4u32 + 24).to_le_bytes());
+        file.resize(dfd_offset as usize, 0);
+        file.extend_from_slice(&28u32.to_le_bytes()); // DFD total size
+        file.extend_from_slice(&[0, 0, 0, 0, 2, 0, 24, 0]); // basic block header, size 24
+        file.extend_from_slice(&[166, 1, 2, 0, 255, 3, 0, 0]); // model..flags, dims
+        file.extend_from_slice(&[0; 8]);
+        file.extend_from_slice(&[0; 16]);
+        file.extend_from_slice(&[0; 16]); // the crate wants bytes after the DFD
+        let err = probe(&file).expect_err("refused");
+        assert!(err.to_string().contains("texel block dimension"), "{err}");
     }
 
     #[test]
