@@ -179,8 +179,8 @@ fn a_file_requiring_two_unsupported_extensions_names_both() {
     let mut fixture = Fixture::new();
     let position = fixture.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
     let rest = json!({
-        "extensionsUsed": ["KHR_draco_mesh_compression", "KHR_texture_basisu", "KHR_mesh_quantization"],
-        "extensionsRequired": ["KHR_draco_mesh_compression", "KHR_texture_basisu", "KHR_mesh_quantization"],
+        "extensionsUsed": ["KHR_draco_mesh_compression", "KHR_materials_pbrSpecularGlossiness", "KHR_mesh_quantization"],
+        "extensionsRequired": ["KHR_draco_mesh_compression", "KHR_materials_pbrSpecularGlossiness", "KHR_mesh_quantization"],
         "scenes": [{"nodes": [0]}],
         "nodes": [{"mesh": 0}],
         "meshes": [{"primitives": [{"attributes": {"POSITION": position}}]}]
@@ -188,12 +188,14 @@ fn a_file_requiring_two_unsupported_extensions_names_both() {
     let message = fixture.load(rest).unwrap_err().to_string();
     assert!(!message.contains('\n'), "one line: {message}");
     assert!(
-        message.contains("extensions KHR_draco_mesh_compression and KHR_texture_basisu"),
+        message.contains(
+            "extensions KHR_draco_mesh_compression and KHR_materials_pbrSpecularGlossiness"
+        ),
         "{message}"
     );
     // The supported one is not listed as missing, and Draco comes with a way out.
     assert!(
-        !message.contains("basisu and KHR_mesh_quantization"),
+        !message.contains("Glossiness and KHR_mesh_quantization"),
         "{message}"
     );
     assert!(message.contains("gltf-pipeline"), "{message}");

@@ -30,9 +30,11 @@
 //!   [`crate::scene::tangents`]); KHR_texture_transform on every texture (with its texCoord
 //!   override). A primitive
 //!   without a material gets glTF's default (white, metallic 1, roughness 1, single-sided).
-//! - Textures: PNG, JPEG and (EXT_texture_webp) WebP from files, data URIs or buffer views; base colour and emissive
-//!   decoded from sRGB to linear with the exact sRGB curve; sampler wrap modes and the
-//!   magnification filter.
+//! - Textures: PNG, JPEG, (EXT_texture_webp) WebP and (KHR_texture_basisu, `basisu`) KTX2
+//!   with Basis Universal ETC1S or UASTC payloads, from files, data URIs or buffer views; a
+//!   texture with a KTX2 image and a fallback `source` reads the KTX2 when its header is
+//!   usable; base colour and emissive decoded from sRGB to linear with the exact sRGB
+//!   curve; sampler wrap modes and the magnification filter.
 //! - Cameras (perspective and orthographic) of every camera node, in node order, with the
 //!   node's scale removed.
 //! - KHR_lights_punctual point, spot and directional lights, in radiometric units (see
@@ -44,7 +46,7 @@
 //!   texture minification filters, the camera's znear / zfar.
 //! - KHR_materials_* extensions other than emissive_strength, and every other extension:
 //!   a file that lists some as *required* is refused naming all of them (with advice for
-//!   Draco and KTX2); one that merely uses them loads with a warning.
+//!   Draco); one that merely uses them loads with a warning.
 //! - POINTS, LINES, LINE_LOOP and LINE_STRIP primitives: skipped with a warning (one line
 //!   primitive should not make a whole scene unloadable).
 //! - TEXCOORD_2 and above, COLOR_1 and above.
@@ -58,6 +60,7 @@
 mod accessors;
 mod alpha;
 mod animation;
+mod basisu;
 mod error;
 mod instancing;
 mod limits;

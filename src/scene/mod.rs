@@ -8,6 +8,7 @@ pub mod defaults;
 pub mod demo;
 pub mod features;
 pub mod gltf;
+pub mod ktx2_decode;
 pub mod layers;
 pub mod light_spec;
 pub mod tangents;

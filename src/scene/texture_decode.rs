@@ -138,9 +138,12 @@ fn shrink_layout<T: Copy + PartialEq>(channels: u8, max: T, codes: Vec<T>) -> (u
     (keep.len() as u8, out)
 }
 
-fn u8_texels(channels: u8, space: ColorSpace, codes: Vec<u8>) -> Texels {
+/// 8-bit codes with `channels` samples per texel, in the fewest channels that hold them exactly
+/// (as [`shrink_layout`] says).
+pub(crate) fn u8_texels(channels: u8, space: ColorSpace, codes: Vec<u8>) -> Texels {
     let (channels, codes) = shrink_layout(channels, u8::MAX, codes);
-    // The image crate's buffers hold whole pixels of `channels` samples.
+    // Callers (the image crate's buffers, the KTX2 transcoder's checked output) hold whole
+    // pixels of `channels` samples.
     Texels::from_u8(channels, space, codes).unwrap_or_else(|| Texels::from_linear(Vec::new()))
 }
 

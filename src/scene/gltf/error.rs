@@ -115,6 +115,19 @@ pub enum LoadError {
         /// The decoder's message.
         message: String,
     },
+    /// A KHR_texture_basisu texture's KTX2 image cannot be used (not a Basis Universal
+    /// payload, truncated, over the texel budget, does not transcode).
+    #[error("{}: {texture}: {image} (KHR_texture_basisu): {problem}", path.display())]
+    Basisu {
+        /// The scene file.
+        path: PathBuf,
+        /// Which texture (`texture 3`).
+        texture: String,
+        /// Which image (index and URI or name).
+        image: String,
+        /// What is wrong and how to fix it.
+        problem: String,
+    },
 }
 
 impl LoadError {
@@ -130,7 +143,8 @@ impl LoadError {
             | LoadError::UnsupportedExtension { path, .. }
             | LoadError::Primitive { path, .. }
             | LoadError::Node { path, .. }
-            | LoadError::Texture { path, .. } => path,
+            | LoadError::Texture { path, .. }
+            | LoadError::Basisu { path, .. } => path,
         }
     }
 }

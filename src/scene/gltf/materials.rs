@@ -4,11 +4,13 @@ use super::LoadError;
 use super::limits::{self, MAX_EMISSION};
 use super::normal_texture::{self, TextureSlot};
 use super::source::{Origin, read_uri, view_bytes};
+use crate::scene::ktx2_decode::{Ktx2Error, decode_ktx2, is_ktx2, probe};
 use crate::scene::texture_decode::{ColorSpace, DecodedImage, decode_image, image_dimensions};
 use crate::scene::{MagFilter, Material, Texture, TextureRef, WrapMode};
 use glam::{Affine2, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::collections::HashSet;
 
 /// Every material of the file, index-aligned, plus the textures they reference.
 pub struct Materials {
@@ -185,7 +187,7 @@ pub fn load(
     }
 
     warnings.extend(clamped);
-    let textures = decode_textures(document, buffers, &keys, origin)?;
+    let textures = decode_textures(document, buffers, &keys, origin, warnings)?;
     Ok(Materials {
         materials,
         textures,
@@ -204,54 +206,94 @@ pub fn uv_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> Affine2
 }
 
 /// Decodes each (texture, colour space) the materials need, each (image, colour space)
-/// once, in parallel, and attaches each texture's sampler settings.
+/// once, in parallel, and attaches each texture's sampler settings. A KHR_texture_basisu
+/// texture reads its KTX2 image when that image can be used, else its core `source`
+/// (see [`super::basisu`]).
 fn decode_textures(
     document: &::gltf::Document,
     buffers: &[Vec<u8>],
     keys: &[TextureKey],
     origin: Origin<'_>,
+    warnings: &mut Vec<String>,
 ) -> Result<Vec<Texture>, LoadError> {
     let textures: Vec<::gltf::Texture<'_>> = document.textures().collect();
-    // Validation guarantees texture indices are in range; `keys` holds only such indices.
-    let image_of = |key: &TextureKey| textures[key.texture].source();
-
-    // The distinct (image, colour space) pairs, with their encoded bytes read up front
-    // (I/O is sequential; decoding is the expensive part and runs in parallel).
-    let mut image_keys: Vec<(usize, ColorSpace)> = keys
-        .iter()
-        .map(|k| (image_of(k).index(), k.space))
-        .collect();
-    image_keys.sort_by_key(|&(image, space)| (image, space == ColorSpace::Linear));
-    image_keys.dedup();
-    let mut encoded: HashMap<usize, (String, std::borrow::Cow<'_, [u8]>)> = HashMap::new();
-    for &(image_index, _) in &image_keys {
-        if encoded.contains_key(&image_index) {
+    let images: Vec<::gltf::Image<'_>> = document.images().collect();
+    let mut encoded: Encoded<'_> = HashMap::new();
+    // The image each needed texture reads, with the encoded bytes read up front (I/O is
+    // sequential; decoding is the expensive part and runs in parallel).
+    let mut chosen: HashMap<usize, usize> = HashMap::new();
+    // Images read as KTX2 whatever their first bytes say (a KHR_texture_basisu image in use).
+    let mut ktx2_images: HashSet<usize> = HashSet::new();
+    for key in keys {
+        if chosen.contains_key(&key.texture) {
             continue;
         }
-        // `image_index` came from a texture's source, which validation checked.
-        let Some(image) = document.images().nth(image_index) else {
-            return Err(LoadError::Invalid {
-                path: origin.file.to_path_buf(),
-                message: format!(
-                    "image {image_index} does not exist (the file is corrupt; re-export it)"
-                ),
-            });
-        };
-        let label = image_label(&image);
-        let bytes = match image.source() {
-            ::gltf::image::Source::View { view, .. } => {
-                std::borrow::Cow::Borrowed(view_bytes(&view, buffers, &label, origin)?)
+        // Validation guarantees texture indices are in range; `keys` holds only such indices.
+        let texture = &textures[key.texture];
+        let core = texture.source().index();
+        let mut image = core;
+        match super::basisu::basisu_image(texture, images.len()) {
+            // No fallback: the KTX2 image is the texture's only image.
+            Some(ktx2) if ktx2 == core => {
+                ktx2_images.insert(ktx2);
             }
-            ::gltf::image::Source::Uri { uri, .. } => read_uri(uri, &label, origin)?,
-        };
-        encoded.insert(image_index, (label, bytes));
+            Some(ktx2) => {
+                read_image(&images, buffers, origin, ktx2, &mut encoded)?;
+                // Read just above.
+                let (label, bytes) = &encoded[&ktx2];
+                match probe(bytes) {
+                    Ok(_) => {
+                        image = ktx2;
+                        ktx2_images.insert(ktx2);
+                    }
+                    Err(problem) => warnings.push(format!(
+                        "{}: texture {}: its {} {label} cannot be used ({problem}); the fallback {} is used instead",
+                        origin.file.display(),
+                        key.texture,
+                        super::basisu::EXTENSION,
+                        image_label(&texture.source()),
+                    )),
+                }
+            }
+            None => {}
+        }
+        read_image(&images, buffers, origin, image, &mut encoded)?;
+        chosen.insert(key.texture, image);
     }
+    let as_ktx2 =
+        |image_index: usize, bytes: &[u8]| ktx2_images.contains(&image_index) || is_ktx2(bytes);
+    // Each key's texture was given an image above.
+    let image_of = |key: &TextureKey| chosen[&key.texture];
+    // The first texture reading each image, to name it in KTX2 errors.
+    let mut texture_of_image: HashMap<usize, usize> = HashMap::new();
+    for key in keys {
+        texture_of_image.entry(image_of(key)).or_insert(key.texture);
+    }
+
+    // The distinct (image, colour space) pairs.
+    let mut image_keys: Vec<(usize, ColorSpace)> =
+        keys.iter().map(|k| (image_of(k), k.space)).collect();
+    image_keys.sort_by_key(|&(image, space)| (image, space == ColorSpace::Linear));
+    image_keys.dedup();
+    let ktx2_error = |image_index: usize, label: &str, problem: Ktx2Error| LoadError::Basisu {
+        path: origin.file.to_path_buf(),
+        texture: format!(
+            "texture {}",
+            texture_of_image.get(&image_index).copied().unwrap_or(0)
+        ),
+        image: label.to_string(),
+        problem: problem.to_string(),
+    };
     // Sizes from the headers, against the budgets, before anything is decoded.
     let mut total_pixels: u64 = 0;
     for &(image_index, _) in &image_keys {
         // Every image key's bytes were read above (or the load already failed).
         let (label, bytes) = &encoded[&image_index];
-        let pixels = check_image_size(bytes, label, origin)?;
+        let pixels = if as_ktx2(image_index, bytes) {
+            check_ktx2_size(bytes, origin).map_err(|p| ktx2_error(image_index, label, p))?
+        } else {
+            check_image_size(bytes, label, origin)?
+        };
         total_pixels = total_pixels.saturating_add(pixels);
         let budget = origin.options.max_total_texture_pixels();
         if total_pixels > budget {
@@ -266,13 +308,30 @@ fn decode_textures(
         }
     }
     let max_pixels = origin.options.max_texture_pixels;
-    let decoded: Vec<((usize, ColorSpace), DecodedImage)> = image_keys
+    let decoded: Vec<((usize, ColorSpace), DecodedImage, Vec<String>)> = image_keys
         .par_iter()
         .map(|&(image_index, space)| {
             // Every image key's bytes were read above (or the load already failed).
             let (label, bytes) = &encoded[&image_index];
+            if as_ktx2(image_index, bytes) {
+                return decode_ktx2(bytes, space, max_pixels)
+                    .map(|(image, notes)| {
+                        let notes = notes
+                            .into_iter()
+                            .map(|note| {
+                                format!(
+                                    "{}: {label} ({}): {note}",
+                                    origin.file.display(),
+                                    super::basisu::EXTENSION
+                                )
+                            })
+                            .collect();
+                        ((image_index, space), image, notes)
+                    })
+                    .map_err(|problem| ktx2_error(image_index, label, problem));
+            }
             decode_image(bytes, space, max_pixels)
-                .map(|image| ((image_index, space), image))
+                .map(|image| ((image_index, space), image, Vec::new()))
                 .map_err(|err| LoadError::Texture {
                     path: origin.file.to_path_buf(),
                     image: label.clone(),
@@ -280,18 +339,22 @@ fn decode_textures(
                 })
         })
         .collect::<Result<_, _>>()?;
-    let decoded: HashMap<(usize, ColorSpace), DecodedImage> = decoded.into_iter().collect();
+    let mut by_key: HashMap<(usize, ColorSpace), DecodedImage> = HashMap::new();
+    for (key, image, notes) in decoded {
+        warnings.extend(notes);
+        by_key.insert(key, image);
+    }
 
     Ok(keys
         .iter()
         .map(|key| {
             let texture = &textures[key.texture];
-            let image = image_of(key);
+            let image_index = image_of(key);
             // Decoded above for every key's (image, colour space).
-            let pixels = &decoded[&(image.index(), key.space)];
+            let pixels = &by_key[&(image_index, key.space)];
             let sampler = texture.sampler();
             Texture {
-                name: image_label(&image),
+                name: image_label(&images[image_index]),
                 width: pixels.width,
                 height: pixels.height,
                 // Shares the decoded storage (no copy).
@@ -305,6 +368,57 @@ fn decode_textures(
             }
         })
         .collect())
+}
+
+/// Each image's label and encoded bytes, by image index.
+type Encoded<'a> = HashMap<usize, (String, std::borrow::Cow<'a, [u8]>)>;
+
+/// Reads image `image_index`'s encoded bytes into `encoded` (once).
+fn read_image<'a>(
+    images: &[::gltf::Image<'a>],
+    buffers: &'a [Vec<u8>],
+    origin: Origin<'_>,
+    image_index: usize,
+    encoded: &mut Encoded<'a>,
+) -> Result<(), LoadError> {
+    if encoded.contains_key(&image_index) {
+        return Ok(());
+    }
+    // `image_index` came from a texture's source (which validation checked) or from a
+    // KHR_texture_basisu index checked against the image count.
+    let Some(image) = images.get(image_index) else {
+        return Err(LoadError::Invalid {
+            path: origin.file.to_path_buf(),
+            message: format!(
+                "image {image_index} does not exist (the file is corrupt; re-export it)"
+            ),
+        });
+    };
+    let label = image_label(image);
+    let bytes = match image.source() {
+        ::gltf::image::Source::View { view, .. } => {
+            std::borrow::Cow::Borrowed(view_bytes(&view, buffers, &label, origin)?)
+        }
+        ::gltf::image::Source::Uri { uri, .. } => read_uri(uri, &label, origin)?,
+    };
+    encoded.insert(image_index, (label, bytes));
+    Ok(())
+}
+
+/// A KTX2 image's texel count from its header, refused when over `--max-texture-pixels`.
+fn check_ktx2_size(bytes: &[u8], origin: Origin<'_>) -> Result<u64, Ktx2Error> {
+    let info = probe(bytes)?;
+    let pixels = u64::from(info.width) * u64::from(info.height);
+    let max = origin.options.max_texture_pixels;
+    if pixels > max {
+        return Err(Ktx2Error::TooLarge {
+            width: info.width,
+            height: info.height,
+            pixels,
+            max,
+        });
+    }
+    Ok(pixels)
 }
 
 /// The image's texel count from its header, refused when over `--max-texture-pixels`.

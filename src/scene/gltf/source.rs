@@ -26,6 +26,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_meshopt_compression",
     "EXT_mesh_gpu_instancing",
     "EXT_texture_webp",
+    "KHR_texture_basisu",
 ];
 
 /// Size of the GLB header: magic, version, total length (3 × u32).
@@ -92,6 +93,7 @@ pub fn parse(
     check_extensions(&root, origin, warnings)?;
     super::validate::check_unwrapped_members(&root, origin)?;
     super::webp::use_webp_sources(&mut root);
+    super::basisu::use_basisu_sources(&mut root);
     // glint decodes these itself; the `gltf` crate's validator would refuse them as
     // required extensions it does not know.
     root.extensions_required

@@ -14,10 +14,6 @@ fn advice(extension: &str) -> Option<&'static str> {
              (writes plain geometry), then, to keep the file small, `gltfpack -i OUT.glb -o SMALL.glb -c` \
              (meshopt compression, which glint reads)"
         }
-        "KHR_texture_basisu" => {
-            "KTX2 / Basis Universal textures, which glint does not transcode: re-export the scene with PNG or \
-             JPEG textures (a .ktx2 file converts to PNG with KTX-Software's `ktx extract`)"
-        }
         "EXT_meshopt_compression" => {
             "meshopt-compressed geometry: rebuild glint with its `meshopt` feature (on by default; it needs \
              a C++ compiler), or decompress with `gltfpack -i IN.glb -o OUT.glb` (no `-c`)"
@@ -76,7 +72,7 @@ mod tests {
         let message = error(
             &[
                 "KHR_draco_mesh_compression",
-                "KHR_texture_basisu",
+                "KHR_materials_pbrSpecularGlossiness",
                 "EXT_foo",
             ],
             origin,
@@ -84,7 +80,7 @@ mod tests {
         .to_string();
         assert!(!message.contains('\n'));
         assert!(message.contains(
-            "requires extensions KHR_draco_mesh_compression, KHR_texture_basisu and EXT_foo"
+            "requires extensions KHR_draco_mesh_compression, KHR_materials_pbrSpecularGlossiness and EXT_foo"
         ));
         assert!(message.contains("gltf-pipeline") && message.contains("without the others"));
         let single = error(&["EXT_foo"], origin).to_string();
