@@ -40,6 +40,7 @@
 //! `None` for them, and `pdf` returns 0 there.
 
 use super::light_bvh::LightBvh;
+use super::placed_emitters::Cluster;
 use crate::accel::Placement;
 use crate::sampling::distribution::Distribution1D;
 use crate::sampling::triangle::{spherical_triangle, spherical_triangle_area, uniform_triangle};
@@ -211,6 +212,14 @@ pub struct AreaLights {
     /// stored); `None` for a mesh drawn once, which stores all its triangles (zero-power
     /// ones with probability 0), so that triangle `t` is at offset `t`.
     stored: Vec<Option<Vec<u32>>>,
+    /// Placed emitters sampled copy by copy (see [`super::placed_emitters`]).
+    clusters: Vec<Cluster>,
+    /// Per mesh, its index in `clusters`, or `u32::MAX`.
+    mesh_cluster: Vec<u32>,
+    /// Per cluster, the selector entry of its copy 0 (entries `lights.len()..` are copies).
+    cluster_first: Vec<u32>,
+    /// Per selector entry past `lights.len()`: (cluster, copy).
+    copy_entries: Vec<(u32, u32)>,
     /// `None` when no triangle emits.
     selector: Option<LightSelector>,
     /// Whether triangles in [`SOLID_ANGLE_RANGE`] are sampled by solid angle.
@@ -245,6 +254,8 @@ impl AreaLights {
         let mut mesh_first = Vec::with_capacity(meshes.len());
         let mut copy_first = Vec::new();
         let mut stored = Vec::with_capacity(meshes.len());
+        let mut clusters: Vec<Cluster> = Vec::new();
+        let mut mesh_cluster: Vec<u32> = Vec::new();
         for (m, mesh) in meshes.iter().enumerate() {
             if mesh.indices.is_empty() {
                 mesh_first.push(u32::MAX);
@@ -276,7 +287,28 @@ impl AreaLights {
                 }
                 radiances.push(radiance);
             }
-            // A placed mesh keeps only its glowing triangles; see `EmitterMesh::instances`.
+            // A placed mesh whose placements are all similarities is sampled copy by copy.
+            if !mesh.instances.is_empty() {
+                let object: Vec<TriangleLight> = corners
+                    .iter()
+                    .zip(&radiances)
+                    .enumerate()
+                    .map(|(t, (&[p0, p1, p2], &le))| {
+                        triangle_light(p0, p1, p2, le, mesh.two_sided, m as u32, 0, t as u32)
+                    })
+                    .collect();
+                if let Some(cluster) = Cluster::new(object, mesh.instances) {
+                    mesh_first.push(u32::MAX);
+                    stored.push(None);
+                    mesh_cluster.resize(m, u32::MAX);
+                    // Fits: fewer clusters than meshes, and meshes.len() < u32::MAX.
+                    mesh_cluster.push(clusters.len() as u32);
+                    clusters.push(cluster);
+                    continue;
+                }
+            }
+            // Other placed meshes keep only their glowing triangles; see
+            // `EmitterMesh::instances`.
             let map = (!mesh.instances.is_empty()).then(|| {
                 let mut next = 0u32;
                 radiances
@@ -314,46 +346,63 @@ impl AreaLights {
                         Some(placement) => [p0, p1, p2].map(|p| placement.point(p)),
                         None => [p0, p1, p2],
                     };
-                    let (e1, e2) = (p1 - p0, p2 - p0);
-                    let cross = e1.cross(e2);
-                    let area = 0.5 * cross.length();
-                    let ok = area.is_finite() && area > 0.0;
+                    let mut light = triangle_light(
+                        p0,
+                        p1,
+                        p2,
+                        radiance,
+                        mesh.two_sided,
+                        m as u32,
+                        copy as u32,
+                        t as u32,
+                    );
                     // A mirroring placement turns the winding: the emitting side is the
                     // object-space front, carried over, not the world-space winding's.
-                    let flip = placement.is_some_and(Placement::mirrored);
-                    let normal = if !ok {
-                        Vec3::ZERO
-                    } else if flip {
-                        -cross.normalize()
-                    } else {
-                        cross.normalize()
-                    };
-                    lights.push(TriangleLight {
-                        p0,
-                        e1,
-                        e2,
-                        normal,
-                        area: if ok { area } else { 0.0 },
-                        le: radiance,
-                        two_sided: mesh.two_sided,
-                        mesh: m as u32,
-                        instance: copy as u32,
-                        triangle: t as u32,
-                    });
+                    if placement.is_some_and(Placement::mirrored) {
+                        light.normal = -light.normal;
+                    }
+                    lights.push(light);
                 }
             }
             stored.push(map);
         }
-        let powers: Vec<f32> = lights.iter().map(TriangleLight::power).collect();
+        mesh_cluster.resize(meshes.len(), u32::MAX);
+        let mut powers: Vec<f32> = lights.iter().map(TriangleLight::power).collect();
+        let mut cluster_first = Vec::with_capacity(clusters.len());
+        let mut copy_entries = Vec::new();
+        for (k, cluster) in clusters.iter().enumerate() {
+            let first = lights.len() + copy_entries.len();
+            if first.saturating_add(cluster.copies()) >= u32::MAX as usize {
+                return Err(AreaLightError::TooMany { count: first });
+            }
+            cluster_first.push(first as u32);
+            for copy in 0..cluster.copies() {
+                copy_entries.push((k as u32, copy as u32));
+                powers.push(cluster.copy_power(copy));
+            }
+        }
         let selector = match mode {
             SelectionMode::Power => Distribution1D::new(&powers).map(LightSelector::Power),
-            SelectionMode::Bvh => LightBvh::new(&lights, &powers).map(LightSelector::Bvh),
+            SelectionMode::Bvh => {
+                let bounds: Vec<_> = copy_entries
+                    .iter()
+                    .filter_map(|&(k, c)| clusters[k as usize].copy_bounds(c as usize))
+                    .collect();
+                // Every copy has bounds (its placement exists), so entries stay aligned.
+                debug_assert_eq!(bounds.len(), copy_entries.len());
+                LightBvh::with_clusters(&lights, &powers[..lights.len()], &bounds)
+                    .map(LightSelector::Bvh)
+            }
         };
         Ok(Self {
             lights,
             mesh_first,
             copy_first,
             stored,
+            clusters,
+            mesh_cluster,
+            cluster_first,
+            copy_entries,
             selector,
             solid_angle_sampling: true,
         })
@@ -390,14 +439,21 @@ impl AreaLights {
         self.selector.is_none()
     }
 
-    /// The stored triangles (every triangle of each emissive mesh, zero-power ones included).
+    /// The stored triangles (every triangle of each emissive mesh drawn once, zero-power ones
+    /// included, and the glowing triangles of each copy of a placed emitter that is not
+    /// sampled copy by copy; see [`super::placed_emitters`]).
     pub fn lights(&self) -> &[TriangleLight] {
         &self.lights
     }
 
     /// Total emitted power `Σ Φ_k` (W), for choosing between area lights and other lights.
     pub fn total_power(&self) -> f32 {
-        self.lights.iter().map(TriangleLight::power).sum()
+        let clustered: f32 = self
+            .copy_entries
+            .iter()
+            .map(|&(k, c)| self.clusters[k as usize].copy_power(c as usize))
+            .sum();
+        self.lights.iter().map(TriangleLight::power).sum::<f32>() + clustered
     }
 
     /// The light index of triangle `triangle` of copy `instance` of mesh `mesh`, if it is
@@ -435,16 +491,41 @@ impl AreaLights {
     }
 
     /// Chooses a light for the shading point `p` (normal `n`, zero if unknown) with `u`:
-    /// `(index, probability)`.
+    /// `(index, probability)`. Indices from `lights().len()` on are copies of placed
+    /// emitters, sampled as a whole.
     #[inline]
     pub fn select(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32)> {
+        self.select_with_rest(p, n, u).map(|(i, pmf, _)| (i, pmf))
+    }
+
+    /// As [`select`](Self::select), with `u` rescaled within the chosen entry's share.
+    #[inline]
+    fn select_with_rest(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32, f32)> {
         match self.selector.as_ref()? {
-            LightSelector::Power(d) => {
-                let (i, pmf, _) = d.sample_discrete(u);
-                Some((i, pmf))
-            }
-            LightSelector::Bvh(bvh) => bvh.sample(p, n, u),
+            LightSelector::Power(d) => Some(d.sample_discrete(u)),
+            LightSelector::Bvh(bvh) => bvh.sample_with_rest(p, n, u),
         }
+    }
+
+    /// The light a selector entry names with the rest `u` of its choice: a stored light, or
+    /// a placed emitter's copy's triangle carried to world space, with the probability of
+    /// the triangle within the copy.
+    #[inline]
+    fn entry_light(
+        &self,
+        index: usize,
+        u: f32,
+    ) -> Option<(std::borrow::Cow<'_, TriangleLight>, f32)> {
+        if let Some(light) = self.lights.get(index) {
+            return Some((std::borrow::Cow::Borrowed(light), 1.0));
+        }
+        let &(k, copy) = self.copy_entries.get(index - self.lights.len())?;
+        let cluster = self.clusters.get(k as usize)?;
+        let (local, q) = cluster.choose(u);
+        Some((
+            std::borrow::Cow::Owned(cluster.world_light(copy as usize, local)?),
+            q,
+        ))
     }
 
     /// Samples a point on a light for the shading point `p` with normal `n` (zero for
@@ -452,8 +533,10 @@ impl AreaLights {
     /// emits, the chosen point faces away (one-sided) or coincides with `p`.
     #[inline]
     pub fn sample(&self, p: Vec3, n: Vec3, u_select: f32, u: Vec2) -> Option<AreaSample> {
-        let (index, pmf) = self.select(p, n, u_select)?;
-        let light = self.lights.get(index)?;
+        let (index, pmf, rest) = self.select_with_rest(p, n, u_select)?;
+        let (light, q) = self.entry_light(index, rest)?;
+        let light = light.as_ref();
+        let pmf = pmf * q;
         if pmf <= 0.0 {
             return None;
         }
@@ -548,15 +631,42 @@ impl AreaLights {
         (mesh, instance, triangle): (u32, u32, u32),
         point: Vec3,
     ) -> f32 {
-        let Some(index) = self.light_index(mesh, instance, triangle) else {
-            return 0.0;
+        let (light, pmf) = match self.mesh_cluster.get(mesh as usize) {
+            Some(&k) if k != u32::MAX => {
+                let (Some(cluster), Some(&first)) = (
+                    self.clusters.get(k as usize),
+                    self.cluster_first.get(k as usize),
+                ) else {
+                    return 0.0;
+                };
+                let Some((local, q)) = cluster.local_of(triangle) else {
+                    return 0.0;
+                };
+                let Some(light) = cluster.world_light(instance as usize, local) else {
+                    return 0.0;
+                };
+                let entry = first as usize + instance as usize;
+                (
+                    std::borrow::Cow::Owned(light),
+                    self.selection_pmf(p, n, entry) * q,
+                )
+            }
+            _ => {
+                let Some(index) = self.light_index(mesh, instance, triangle) else {
+                    return 0.0;
+                };
+                (
+                    std::borrow::Cow::Borrowed(&self.lights[index]),
+                    self.selection_pmf(p, n, index),
+                )
+            }
         };
-        let light = &self.lights[index];
+        let light = light.as_ref();
         if let Some((_, omega)) = self.spherical(light, p) {
             if !light.two_sided && light.normal.dot(p - light.p0) <= 0.0 {
                 return 0.0;
             }
-            return self.selection_pmf(p, n, index) / omega;
+            return pmf / omega;
         }
         let d = point - p;
         let dist2 = d.length_squared();
@@ -567,8 +677,38 @@ impl AreaLights {
         if cos_l == 0.0 || (!light.two_sided && cos_l < 0.0) {
             return 0.0;
         }
-        let pmf = self.selection_pmf(p, n, index);
         pmf * dist2 / (light.area * cos_l.abs())
+    }
+}
+
+/// The light of triangle `p0 p1 p2` with average radiance `le`: its normal follows the
+/// winding, and a degenerate triangle gets zero area and normal (zero power).
+#[allow(clippy::too_many_arguments)]
+fn triangle_light(
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+    le: Vec3,
+    two_sided: bool,
+    mesh: u32,
+    instance: u32,
+    triangle: u32,
+) -> TriangleLight {
+    let (e1, e2) = (p1 - p0, p2 - p0);
+    let cross = e1.cross(e2);
+    let area = 0.5 * cross.length();
+    let ok = area.is_finite() && area > 0.0;
+    TriangleLight {
+        p0,
+        e1,
+        e2,
+        normal: if ok { cross.normalize() } else { Vec3::ZERO },
+        area: if ok { area } else { 0.0 },
+        le,
+        two_sided,
+        mesh,
+        instance,
+        triangle,
     }
 }
 

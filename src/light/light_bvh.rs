@@ -49,6 +49,41 @@ use std::f32::consts::{FRAC_PI_2, PI};
 /// Bins per axis in the build.
 const BINS: usize = 12;
 
+/// The largest `f32` below 1.
+const ONE_BELOW_1: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// What the tree needs of a group of lights sampled as one leaf (a placed emitter's copy):
+/// world bounds, the cone of its normals, whether any side emits backwards, and its power.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClusterBounds {
+    /// Lower corner.
+    pub min: Vec3,
+    /// Upper corner.
+    pub max: Vec3,
+    /// Unit axis of the normals' cone.
+    pub axis: Vec3,
+    /// Cosine of the cone's half-angle (−1: every direction).
+    pub cos_theta: f32,
+    /// Whether some light in it emits from both faces.
+    pub two_sided: bool,
+    /// Total power (W).
+    pub power: f32,
+}
+
+/// The cone (unit axis, cosine of the half-angle) holding the normals of `lights` (those of
+/// non-degenerate ones), or `None` when none has a normal.
+pub fn normal_cone(lights: &[TriangleLight]) -> Option<(Vec3, f32)> {
+    lights
+        .iter()
+        .filter(|l| l.normal != Vec3::ZERO)
+        .map(|l| Cone {
+            axis: l.normal,
+            cos_theta: 1.0,
+        })
+        .reduce(Cone::union)
+        .map(|c| (c.axis, c.cos_theta))
+}
+
 /// An orientation cone: unit `axis`, `cos θ_o` of its half-angle (−1 for every direction).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Cone {
@@ -239,6 +274,16 @@ struct Item {
 impl LightBvh {
     /// Builds the tree over the lights with positive `powers[k]`; `None` when there is none.
     pub fn new(lights: &[TriangleLight], powers: &[f32]) -> Option<Self> {
+        Self::with_clusters(lights, powers, &[])
+    }
+
+    /// As [`new`](Self::new), with `clusters` as further leaves: entry `lights.len() + j` is
+    /// cluster `j` (a placed emitter's copy, sampled as a whole).
+    pub fn with_clusters(
+        lights: &[TriangleLight],
+        powers: &[f32],
+        clusters: &[ClusterBounds],
+    ) -> Option<Self> {
         let mut items: Vec<Item> = lights
             .iter()
             .zip(powers)
@@ -251,11 +296,32 @@ impl LightBvh {
                 light: k as u32,
             })
             .collect();
+        items.extend(
+            clusters
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.power > 0.0 && c.power.is_finite())
+                .map(|(j, c)| Item {
+                    bounds: Bounds {
+                        min: c.min,
+                        max: c.max,
+                        power: c.power,
+                        cone: Cone {
+                            axis: c.axis,
+                            cos_theta: c.cos_theta,
+                        },
+                        two_sided: c.two_sided,
+                    },
+                    centroid: 0.5 * (c.min + c.max),
+                    // Fits: AreaLights holds fewer than u32::MAX entries.
+                    light: (lights.len() + j) as u32,
+                }),
+        );
         if items.is_empty() {
             return None;
         }
         let mut nodes: Vec<Node> = Vec::with_capacity(2 * items.len());
-        let mut leaf_of = vec![u32::MAX; lights.len()];
+        let mut leaf_of = vec![u32::MAX; lights.len() + clusters.len()];
         // (start, end, parent, which child of the parent): an explicit stack, so that a
         // degenerate (deep) tree cannot overflow the call stack.
         let mut stack = vec![(0usize, items.len(), u32::MAX, 0usize)];
@@ -301,6 +367,13 @@ impl LightBvh {
     /// Chooses a light for the point `p` with normal `n` (zero if unknown) with the uniform
     /// `u`: `(light index, probability)`, or `None` when no light can reach `p`.
     pub fn sample(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32)> {
+        self.sample_with_rest(p, n, u)
+            .map(|(light, pmf, _)| (light, pmf))
+    }
+
+    /// As [`sample`](Self::sample), also returning `u` rescaled within the chosen leaf's
+    /// share: uniform in `[0, 1)` again, for a choice inside the leaf (a cluster's triangle).
+    pub fn sample_with_rest(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32, f32)> {
         let mut u = f64::from(u);
         let mut pmf = 1.0f64;
         let mut node = 0usize;
@@ -311,7 +384,7 @@ impl LightBvh {
                     if node == 0 && !positive(current.bounds.importance(p, n)) {
                         return None;
                     }
-                    return Some((light as usize, pmf as f32));
+                    return Some((light as usize, pmf as f32, (u as f32).min(ONE_BELOW_1)));
                 }
                 Kind::Interior([a, b]) => {
                     let ia = self.nodes.get(a as usize)?.bounds.importance(p, n);

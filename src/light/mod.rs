@@ -20,6 +20,7 @@ pub mod directional;
 pub mod emission_average;
 pub mod environment;
 pub mod light_bvh;
+pub mod placed_emitters;
 pub mod point;
 pub mod range;
 pub mod spot;
