@@ -3,7 +3,8 @@
 
 usage: scripts/instanced-scene.py MODEL.gltf COUNT OUT_DIR
 
-Every node with a mesh gets the extension: copies on a square grid on the XZ plane, 1.5 model
+Every node with a mesh gets the extension: copies on a square grid on the XZ plane of the
+node's own frame (the node's transform applies after the instance's), 1.5 model
 sizes apart (the size is the POSITION accessors' largest extent), each turned about Y by a
 different angle. The model's buffers and images are linked into OUT_DIR (their URIs stay
 relative), so OUT_DIR/instanced.gltf loads like the original. For `glint render` memory and
