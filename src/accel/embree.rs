@@ -307,7 +307,7 @@ impl EmbreeAccel {
 
     /// The hit a raw answer describes, in glint's ids and world space.
     #[inline]
-    fn from_raw(&self, hit: &ffi::glint_hit) -> Option<Hit> {
+    fn hit_of(&self, hit: &ffi::glint_hit) -> Option<Hit> {
         if hit.geom_id == ffi::GLINT_INVALID_ID {
             return None;
         }
@@ -362,7 +362,7 @@ impl EmbreeAccel {
         coherence: Coherence,
         query: QueryFn<ffi::glint_hit>,
     ) {
-        self.query_chunked(rays, hits, coherence, query, |raw| self.from_raw(raw));
+        self.query_chunked(rays, hits, coherence, query, |raw| self.hit_of(raw));
     }
 
     fn query_occlusion(
@@ -441,7 +441,7 @@ impl Accel for EmbreeAccel {
         let mut raw_hit = ffi::glint_hit::default();
         // SAFETY: one ray in, one hit out; the scene is committed.
         unsafe { ffi::glint_intersect1(self.raw.as_ptr(), &raw_ray, &mut raw_hit, 1, 0) };
-        self.from_raw(&raw_hit)
+        self.hit_of(&raw_hit)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {

@@ -39,7 +39,7 @@ pub enum Structure {
     #[cfg(feature = "embree")]
     Embree(EmbreeAccel),
     /// The obvhs BVH.
-    Bvh(BvhAccel),
+    Bvh(Box<BvhAccel>),
 }
 
 impl Structure {
@@ -55,7 +55,7 @@ impl Structure {
             BackendKind::Embree => Ok(Structure::Embree(EmbreeAccel::build(meshes, options)?)),
             #[cfg(not(feature = "embree"))]
             BackendKind::Embree => Err(AccelError::Unavailable(BackendKind::Embree)),
-            BackendKind::Bvh => Ok(Structure::Bvh(BvhAccel::build(meshes, options))),
+            BackendKind::Bvh => Ok(Structure::Bvh(Box::new(BvhAccel::build(meshes, options)))),
         }
     }
 
@@ -64,7 +64,7 @@ impl Structure {
         match self {
             #[cfg(feature = "embree")]
             Structure::Embree(accel) => accel,
-            Structure::Bvh(accel) => accel,
+            Structure::Bvh(accel) => accel.as_ref(),
         }
     }
 
