@@ -3,7 +3,7 @@
 #   libembree-dev  Embree (3.13 on Debian 12, 4.x on Debian 13 / Ubuntu 24.04)
 #   libclang-dev   libclang for bindgen
 #   libfontconfig1-dev, fonts-dejavu-core   fonts for the plots of `glint converge`
-#   pkg-config, a C compiler, python3-pip (the Embree 4 check), python3-venv (the Python
+#   pkg-config, a C and a C++ compiler (the KTX2 tests' reference encoder), python3-pip (the Embree 4 check), python3-venv (the Python
 #   package's tests), curl (for rustup, if Rust is
 #   missing)
 # and a Rust toolchain through rustup when cargo is not on PATH.
@@ -14,6 +14,8 @@ dpkg -s libembree-dev >/dev/null 2>&1 || need+=(libembree-dev)
 dpkg -s libclang-dev >/dev/null 2>&1 || need+=(libclang-dev)
 dpkg -s pkg-config >/dev/null 2>&1 || command -v pkg-config >/dev/null || need+=(pkg-config)
 command -v cc >/dev/null 2>&1 || need+=(build-essential)
+# The KTX2 tests build Binomial's reference Basis Universal encoder (C++, a dev-dependency).
+command -v c++ >/dev/null 2>&1 || need+=(g++)
 # glint converge draws its plots with plotters, which finds fonts through fontconfig.
 dpkg -s libfontconfig1-dev >/dev/null 2>&1 || need+=(libfontconfig1-dev)
 dpkg -s fonts-dejavu-core >/dev/null 2>&1 || need+=(fonts-dejavu-core)
