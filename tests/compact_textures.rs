@@ -4,6 +4,9 @@
 //! for colour) terms; rendered images of textured scenes agree within one 8-bit output code;
 //! 16-bit images keep steps finer than 1/255; bytes per texel with the MIP chain are stated.
 
+mod common;
+
+use common::SplitMix as Rng;
 use glam::{Vec2, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
 use glint::render::{self, Integrator, RenderSettings};
@@ -13,22 +16,6 @@ use glint::scene::{MagFilter, Scene};
 use glint::texture::image::{TexelGrid, Wrap};
 use glint::texture::{MipMap, TextureFilter, UvFootprint, lookup};
 use std::path::{Path, PathBuf};
-
-/// A small deterministic generator (SplitMix64), so the test needs no seed file.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
 
 /// The sRGB OETF (linear to encoded), to measure errors in 8-bit encoded terms.
 fn encode(linear: f32) -> f32 {

@@ -2,9 +2,11 @@
 //! must look exactly like its copies baked into world space, in both backends and both
 //! integrators, and the loader must share the meshes glTF draws more than once.
 
+mod common;
 mod gltf_fixture;
 mod render_support;
 
+use common::SplitMix;
 use glam::{Affine3A, Mat3, Mat4, Quat, Vec3};
 use glint::accel::{self, BackendKind, BuildOptions, Placement, Ray};
 use glint::render::{self, AovSelection, Integrator, PixelSampling, RenderSettings};
@@ -304,13 +306,8 @@ fn placed_emitters_light_like_their_baked_copies() {
 #[test]
 fn backends_agree_with_baked_copies_on_every_ray() {
     let sphere = glint::procedural::displaced_sphere(3, 0.2, 7);
-    let mut rng = 12345u64;
-    let mut next = || {
-        rng = rng
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((rng >> 40) as f32) / (1u64 << 24) as f32
-    };
+    let mut rng = SplitMix(12345);
+    let mut next = || rng.unit();
     let mut transforms = Vec::new();
     for i in 0..40 {
         let scale = Vec3::new(0.5 + next(), 0.5 + next(), 0.5 + next())
@@ -575,13 +572,8 @@ fn copies_sampled_as_a_whole_are_unbiased() {
             placed.total_power(),
             flat.total_power()
         );
-        let mut rng = 7u64;
-        let mut uniform = || {
-            rng = rng
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((rng >> 40) as f32) / (1u64 << 24) as f32
-        };
+        let mut rng = SplitMix(7);
+        let mut uniform = || rng.unit();
         for p in [
             V::new(0.0, 0.0, 0.0),
             V::new(2.0, 4.0, -1.0),

@@ -9,6 +9,9 @@
 //! alpha, f32). That is what keeps the recorded image hashes (`tests/image_hashes.rs`)
 //! unchanged.
 
+mod common;
+
+use common::SplitMix as Rng;
 use glam::{DVec2, Vec2, Vec4};
 use glint::scene::texels::Texels;
 use glint::scene::texture_decode::ColorSpace;
@@ -16,26 +19,6 @@ use glint::scene::{MagFilter, WrapMode};
 use glint::texture::filter::MAX_ANISOTROPY;
 use glint::texture::image::{TexelGrid, Wrap};
 use glint::texture::{MipMap, TextureFilter, UvFootprint, lookup};
-
-/// SplitMix64, so the test needs no seed file.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-    /// Uniform in [−r, r].
-    fn signed(&mut self, r: f32) -> f32 {
-        (self.unit() * 2.0 - 1.0) * r
-    }
-}
 
 // ---- The reference: the filters as written before the fused lookups. ----
 

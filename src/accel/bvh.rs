@@ -35,8 +35,6 @@ pub struct BvhAccel {
 struct TopItem {
     /// Index into `BvhAccel::placed`.
     blas: u32,
-    /// The mesh's geometry id.
-    geom_id: u32,
     /// Which of its placements.
     instance: u32,
     placement: Placement,
@@ -211,7 +209,6 @@ impl BvhAccel {
                 bounds.push(obvhs::aabb::Aabb::new(Vec3A::from(wlo), Vec3A::from(whi)));
                 items.push(TopItem {
                     blas: placed.len() as u32,
-                    geom_id: geom as u32,
                     instance: instance as u32,
                     placement: *placement,
                 });
@@ -354,7 +351,6 @@ impl Accel for BvhAccel {
                                 .normal(blas.normal(index))
                                 .normalize_or_zero(),
                         });
-                        debug_assert_eq!(geom_id, item.geom_id);
                         t + TRAVERSAL_SHIFT
                     }
                     _ => f32::INFINITY,

@@ -7,6 +7,20 @@
 
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 
+/// The matrix that maps object-space normals to world space for the linear map `linear`: the
+/// inverse transpose, computed as the cofactor matrix (det · inverse transpose) with the
+/// determinant's sign restored. Unlike an inverse, the cofactor exists for a singular
+/// (flattening) map too; callers normalise, so the magnitude of det does not matter.
+pub fn normal_matrix(linear: Mat3A) -> Mat3A {
+    let (a, b, c) = (linear.x_axis, linear.y_axis, linear.z_axis);
+    let cofactor = Mat3A::from_cols(b.cross(c), c.cross(a), a.cross(b));
+    if linear.determinant() < 0.0 {
+        -cofactor
+    } else {
+        cofactor
+    }
+}
+
 /// One copy of an object-space mesh in the world: its affine world-from-object transform, with
 /// the inverse and the normal matrix computed once.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,14 +50,11 @@ impl Placement {
         if !object_from_world.is_finite() {
             return None;
         }
-        let (a, b, c) = (linear.x_axis, linear.y_axis, linear.z_axis);
-        let cofactor = Mat3A::from_cols(b.cross(c), c.cross(a), a.cross(b));
-        let mirrored = det < 0.0;
         Some(Self {
             world_from_object,
             object_from_world,
-            normal_from_object: if mirrored { -cofactor } else { cofactor },
-            mirrored,
+            normal_from_object: normal_matrix(linear),
+            mirrored: det < 0.0,
             node,
         })
     }

@@ -42,11 +42,7 @@ impl SurfaceInteraction {
     #[inline]
     pub fn from_hit(mesh: &Mesh, hit: &Hit, ray_dir: Vec3) -> Option<Self> {
         let vertices = *mesh.indices.get(hit.prim_id as usize)?;
-        let [p0, p1, p2] = [
-            *mesh.positions.get(vertices[0] as usize)?,
-            *mesh.positions.get(vertices[1] as usize)?,
-            *mesh.positions.get(vertices[2] as usize)?,
-        ];
+        let [p0, p1, p2] = mesh.corners(vertices, None)?;
         let (p, p_error) = triangle_point(p0, p1, p2, hit.u, hit.v);
         let placement = match mesh.instances.len() {
             0 => None,
@@ -78,14 +74,7 @@ impl SurfaceInteraction {
     /// The hit triangle's corners in world space (`None` if an index is out of range).
     #[inline]
     pub fn world_triangle(&self, mesh: &Mesh) -> Option<[Vec3; 3]> {
-        let [a, b, c] = self
-            .vertices
-            .map(|i| mesh.positions.get(i as usize).copied());
-        let corners = [a?, b?, c?];
-        Some(match &self.placement {
-            Some(p) => corners.map(|v| p.point(v)),
-            None => corners,
-        })
+        mesh.corners(self.vertices, self.placement.as_ref())
     }
 
     /// An interpolated per-vertex normal (or its derivative) in world space; not normalised.

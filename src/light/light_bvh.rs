@@ -43,14 +43,12 @@
 //! node's lights emit into. Ranges that cannot be split are halved by index.
 
 use super::area::TriangleLight;
+use crate::sampling::distribution::ONE_MINUS_EPSILON;
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, PI};
 
 /// Bins per axis in the build.
 const BINS: usize = 12;
-
-/// The largest `f32` below 1.
-const ONE_BELOW_1: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// What the tree needs of a group of lights sampled as one leaf (a placed emitter's copy):
 /// world bounds, the cone of its normals, whether any side emits backwards, and its power.
@@ -384,7 +382,11 @@ impl LightBvh {
                     if node == 0 && !positive(current.bounds.importance(p, n)) {
                         return None;
                     }
-                    return Some((light as usize, pmf as f32, (u as f32).min(ONE_BELOW_1)));
+                    return Some((
+                        light as usize,
+                        pmf as f32,
+                        (u as f32).min(ONE_MINUS_EPSILON),
+                    ));
                 }
                 Kind::Interior([a, b]) => {
                     let ia = self.nodes.get(a as usize)?.bounds.importance(p, n);

@@ -310,7 +310,7 @@ pub fn build_area_lights(
         .meshes
         .iter()
         .filter(|m| scene.materials.get(m.material).is_some_and(emitting))
-        .map(|m| m.indices.len() * m.copies())
+        .map(crate::scene::Mesh::drawn_triangles)
         .sum();
     let mode = if emitters >= LIGHT_BVH_MIN_EMITTERS {
         SelectionMode::Bvh

@@ -73,7 +73,7 @@ impl SceneFeatures {
             f.shading_normals |= mesh.normals.is_some();
             f.placed_copies += mesh.instances.len();
             f.stored_triangles += mesh.indices.len();
-            f.drawn_triangles += mesh.indices.len() * mesh.copies();
+            f.drawn_triangles += mesh.drawn_triangles();
         }
         for (material, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
             f.textures |=

@@ -88,12 +88,25 @@ impl Mesh {
         self.instances.len().max(1)
     }
 
-    /// The world-space corners of triangle `triangle` on copy `instance`.
+    /// Triangles drawn: the mesh's count times its copies.
+    #[inline]
+    pub fn drawn_triangles(&self) -> usize {
+        self.indices.len() * self.copies()
+    }
+
+    /// The world-space corners of the triangle with `vertices` on copy `instance`.
     #[inline]
     pub fn world_triangle(&self, instance: u32, vertices: [u32; 3]) -> Option<[Vec3; 3]> {
+        self.corners(vertices, self.placement(instance))
+    }
+
+    /// The corners of the triangle with `vertices` as stored, carried to world space by
+    /// `placement` when given; `None` if an index is out of range.
+    #[inline]
+    pub fn corners(&self, vertices: [u32; 3], placement: Option<&Placement>) -> Option<[Vec3; 3]> {
         let [a, b, c] = vertices.map(|i| self.positions.get(i as usize).copied());
         let corners = [a?, b?, c?];
-        Some(match self.placement(instance) {
+        Some(match placement {
             Some(p) => corners.map(|v| p.point(v)),
             None => corners,
         })

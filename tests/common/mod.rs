@@ -7,6 +7,30 @@ use glint::accel::Ray;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
+/// SplitMix64: a small deterministic generator, so a test needs no seed file.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    /// The next 64 random bits.
+    pub fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1), on a 2⁻²⁴ grid.
+    pub fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// Uniform in [−r, r].
+    pub fn signed(&mut self, r: f32) -> f32 {
+        (self.unit() * 2.0 - 1.0) * r
+    }
+}
+
 /// Bounds of a set of points.
 pub fn bounds(points: impl IntoIterator<Item = Vec3>) -> (Vec3, Vec3) {
     points.into_iter().fold(

@@ -283,18 +283,12 @@ pub fn build(
     }))
 }
 
-/// The matrix that maps object-space normals to world space: the inverse transpose of
-/// `linear`, computed as its cofactor matrix (det · inverse transpose) with the determinant's
-/// sign restored. Unlike an inverse, the cofactor exists for a singular (flattening)
-/// transform too. Callers normalise, so the magnitude of det does not matter.
+/// The matrix that maps object-space normals to world space for the node transform's linear
+/// part (see [`crate::accel::instance::normal_matrix`], which placements use too).
 pub fn normal_transform(linear: Mat3) -> Mat3 {
-    let (a, b, c) = (linear.x_axis, linear.y_axis, linear.z_axis);
-    let cofactor = Mat3::from_cols(b.cross(c), c.cross(a), a.cross(b));
-    if linear.determinant() < 0.0 {
-        -cofactor
-    } else {
-        cofactor
-    }
+    Mat3::from(crate::accel::instance::normal_matrix(glam::Mat3A::from(
+        linear,
+    )))
 }
 
 /// Triangles (counter-clockwise in the file's winding) from a primitive's vertex indices.
