@@ -130,6 +130,19 @@ glint_device *glint_device_new(const char *config) {
 
 const char *glint_last_creation_error(void) { return creation_error; }
 
+int glint_device_native_packet_width(const glint_device *d) {
+    if (rtcGetDeviceProperty(d->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)) {
+        return 16;
+    }
+    if (rtcGetDeviceProperty(d->device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) {
+        return 8;
+    }
+    if (rtcGetDeviceProperty(d->device, RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED)) {
+        return 4;
+    }
+    return 1;
+}
+
 void glint_device_free(glint_device *d) {
     if (d == NULL) {
         return;

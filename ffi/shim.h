@@ -74,6 +74,13 @@ void glint_set_denormal_modes(void);
 /** Creates a device (config may be NULL). Returns NULL on failure; see glint_last_creation_error. */
 glint_device *glint_device_new(const char *config);
 
+/**
+ * The widest ray packet the device's kernels run natively: 16 (AVX-512), 8 (AVX, AVX2), 4 (SSE)
+ * or 1. It tells which instruction set a device configured with isa=... really got (Embree
+ * falls back to SSE2 silently on a name it does not know).
+ */
+int glint_device_native_packet_width(const glint_device *device);
+
 /** The message of the last failed glint_device_new on this thread (static storage). */
 const char *glint_last_creation_error(void);
 

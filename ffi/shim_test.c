@@ -1,20 +1,30 @@
 /*
  * Tests of the shim's contract that Rust cannot reach, run against a real Embree 3 or 4 by
  * scripts/check-embree4.sh:
- *   - the library's runtime version against the headers the shim was compiled with;
+ *   - the library's runtime version (major.minor.patch) against the headers the shim was
+ *     compiled with: they must come from the same release;
  *   - how many bytes past our headers' RTCRayHit / RTCRayHit8 the library writes (instPrimID,
- *     instance levels), which must fit in the padded unions (GLINT_HIT_SLACK);
- *   - occlusion's convention (tfar = -inf on a hit);
+ *     instance levels): none when headers and library are the same release (anything else means
+ *     a different build configuration), else at most the padded unions' GLINT_HIT_SLACK;
+ *   - the hit (t == 1, geomID 0) and occlusion's convention (tfar = -inf on a hit);
  *   - errors: taken once, per thread, never leaking into the next commit;
  *   - lifetimes: a scene outlives its freed device; the live-handle count returns to zero.
+ * The kernel-dependent checks (overruns, hits, occlusion, the lifetimes check's hit) run once
+ * per instruction set the CPU supports, on a device made with Embree's "isa=..." config; each
+ * run first reads, from what a verbose device prints, which kernels Embree really selected (it
+ * falls back to SSE2 silently on an ISA name it does not know).
  *
  * It includes shim.c to see its private types and constants. Build (see the script):
  *   cc -std=c11 -DGLINT_EMBREE_MAJOR=4 -Iffi -isystem INCLUDE ffi/shim_test.c -lembree4 -lpthread
  * Exits 0 when every check passes, 1 otherwise; prints what it measured.
  */
+/* dup, dup2, fileno (capturing Embree's verbose output) under -std=c11. */
+#define _POSIX_C_SOURCE 200809L
+
 #include "shim.c"
 
 #include <pthread.h>
+#include <unistd.h>
 
 static int failures = 0;
 
@@ -47,6 +57,20 @@ static glint_ray down_ray(void) {
     return r;
 }
 
+/* The triangle lies at t == 1 on the down ray. Embree's kernels divide by a reciprocal
+ * estimate refined once, so the t they report depends on the ISA: exactly 1 with AVX-512's
+ * rcp14, 0.99999994 (1 ulp below) with SSE2 to AVX2's rcp (Embree 3.13.5 and 4.3.3 alike). */
+#define GLINT_T_ULPS 4
+
+/* How many floats lie between t and 1 (a large number for a NaN or a negative t). */
+static long ulps_from_one(float t) {
+    float one = 1.0f;
+    int32_t a, b;
+    memcpy(&a, &t, sizeof a);
+    memcpy(&b, &one, sizeof b);
+    return a > b ? (long)a - b : (long)b - a;
+}
+
 /* Index one past the last byte of buf[from, to) that differs from the fill byte; `from` if
  * none does. */
 static size_t written_end(const unsigned char *buf, size_t from, size_t to, unsigned char fill) {
@@ -59,7 +83,8 @@ static size_t written_end(const unsigned char *buf, size_t from, size_t to, unsi
     return end;
 }
 
-static void check_versions(glint_device *d) {
+/* Returns whether headers and library are the same release (major.minor.patch). */
+static int check_versions(glint_device *d) {
     long library = (long)rtcGetDeviceProperty(d->device, RTC_DEVICE_PROPERTY_VERSION);
     long library_major = (long)rtcGetDeviceProperty(d->device, RTC_DEVICE_PROPERTY_VERSION_MAJOR);
     printf("headers: Embree %s (RTC_VERSION %d, RTC_MAX_INSTANCE_LEVEL_COUNT %d)\n",
@@ -72,11 +97,16 @@ static void check_versions(glint_device *d) {
           glint_embree_major(), RTC_VERSION_MAJOR);
     CHECK(library_major == RTC_VERSION_MAJOR, "library major %ld, headers %d", library_major,
           RTC_VERSION_MAJOR);
+    CHECK(library == RTC_VERSION,
+          "headers are Embree %s but the library is Embree %ld.%ld.%ld: headers and library are "
+          "from different releases",
+          RTC_VERSION_STRING, library / 10000, library / 100 % 100, library % 100);
+    return library == RTC_VERSION;
 }
 
 /* Fills the padded single-ray union with `fill`, traces the down ray and reports how far past
  * our struct RTCRayHit the library wrote. */
-static size_t overrun1(glint_scene *s, unsigned char fill) {
+static size_t overrun1(glint_scene *s, unsigned char fill, float *t) {
     GLINT_QUERY_ARGS(args, Intersect, 0);
     padded_rayhit p;
     memset(&p, fill, sizeof p);
@@ -85,8 +115,10 @@ static size_t overrun1(glint_scene *s, unsigned char fill) {
     p.rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     p.rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     GLINT_INTERSECT1(s->scene, &p.rh, args);
-    CHECK(p.rh.hit.geomID == 0 && p.rh.ray.tfar == 1.0f, "rtcIntersect1 missed (geomID %u, t %g)",
-          p.rh.hit.geomID, (double)p.rh.ray.tfar);
+    CHECK(p.rh.hit.geomID == 0 && ulps_from_one(p.rh.ray.tfar) <= GLINT_T_ULPS,
+          "rtcIntersect1 missed (geomID %u, t %.9g, %ld ulps from 1)", p.rh.hit.geomID,
+          (double)p.rh.ray.tfar, ulps_from_one(p.rh.ray.tfar));
+    *t = p.rh.ray.tfar;
     return written_end((const unsigned char *)&p, sizeof p.rh, sizeof p, fill) - sizeof p.rh;
 }
 
@@ -112,18 +144,29 @@ static size_t overrun8(glint_scene *s, unsigned char fill) {
     return written_end((const unsigned char *)&p, sizeof p.rh, sizeof p, fill) - sizeof p.rh;
 }
 
-static void check_struct_overruns(glint_scene *s) {
+/* same_release: headers and library are one release, so they must agree on the structs. */
+static void check_struct_overruns(glint_scene *s, int same_release) {
     /* Two fills, so a written byte that happens to equal one fill is still seen. */
-    size_t a1 = overrun1(s, 0xA5), b1 = overrun1(s, 0x5A);
+    float t = 0.0f;
+    size_t a1 = overrun1(s, 0xA5, &t), b1 = overrun1(s, 0x5A, &t);
     size_t a8 = overrun8(s, 0xA5), b8 = overrun8(s, 0x5A);
     size_t past1 = a1 > b1 ? a1 : b1;
     size_t past8 = a8 > b8 ? a8 : b8;
+    printf("rtcIntersect1 hit at t = %.9g (%ld ulps from 1; up to %d allowed)\n", (double)t,
+           ulps_from_one(t), GLINT_T_ULPS);
     printf("rtcIntersect1 wrote %zu bytes past our struct RTCRayHit (%zu bytes); room %d\n", past1,
            sizeof(struct RTCRayHit), GLINT_HIT_SLACK);
     printf("rtcIntersect8 wrote %zu bytes past our struct RTCRayHit8 (%zu bytes); room %d\n", past8,
            sizeof(struct RTCRayHit8), 8 * GLINT_HIT_SLACK);
     CHECK(past1 <= GLINT_HIT_SLACK, "single-ray overrun %zu exceeds the slack", past1);
     CHECK(past8 <= 8 * GLINT_HIT_SLACK, "packet overrun %zu exceeds the slack", past8);
+    if (same_release) {
+        CHECK(past1 == 0 && past8 == 0,
+              "the library wrote past our hit structs (%zu and %zu bytes) although headers and "
+              "library are both Embree %s: they come from builds with different configurations "
+              "(RTC_MAX_INSTANCE_LEVEL_COUNT, instance arrays)",
+              past1, past8, RTC_VERSION_STRING);
+    }
 }
 
 static void check_occlusion_convention(glint_scene *s) {
@@ -187,10 +230,13 @@ static void check_errors(glint_device *d) {
     CHECK(code == 0, "took another thread's error %d (\"%s\")", code, message);
 }
 
-static void check_lifetimes(void) {
+static void check_lifetimes(const char *config) {
     int64_t before = glint_live_handles();
-    glint_device *d = glint_device_new(NULL);
+    glint_device *d = glint_device_new(config);
     CHECK(d != NULL, "device: %s", glint_last_creation_error());
+    if (d == NULL) {
+        return;
+    }
     glint_scene *s = glint_scene_new(d, GLINT_BUILD_HIGH, 1);
     glint_device_free(d); /* before the scene is filled, built and used */
     CHECK(glint_scene_add_triangles(s, TRIANGLE, 3, TRIANGLE_INDICES, 1) == 0, "add failed");
@@ -198,31 +244,229 @@ static void check_lifetimes(void) {
     glint_ray r = down_ray();
     glint_hit h;
     glint_intersect1(s, &r, &h, 1, 1);
-    CHECK(h.geom_id == 0 && h.t == 1.0f, "hit after the device was freed: geom %u t %g",
-          h.geom_id, (double)h.t);
+    CHECK(h.geom_id == 0 && ulps_from_one(h.t) <= GLINT_T_ULPS,
+          "hit after the device was freed: geom %u t %.9g", h.geom_id, (double)h.t);
     glint_scene_free(s);
     CHECK(glint_live_handles() == before, "live handles %lld, expected %lld",
           (long long)glint_live_handles(), (long long)before);
 }
 
+/* ---- one run per instruction set ------------------------------------------------------ */
+
+/* Embree's name for AVX-512 in "isa=": "avx512" since 3.12.2 (so in every Embree 4),
+ * "avx512skx" before. An unknown name is not an error: Embree silently runs SSE2. */
+#if RTC_VERSION >= 31202
+#define GLINT_ISA_AVX512 "avx512"
+#else
+#define GLINT_ISA_AVX512 "avx512skx"
+#endif
+
+typedef struct isa_run {
+    const char *name;   /* Embree's config name */
+    const char *target; /* Embree's name for the target in its verbose output */
+} isa_run;
+
+static const isa_run ISAS[] = {
+    {"sse2", "SSE2"}, {"sse4.2", "SSE4.2"}, {"avx", "AVX"}, {"avx2", "AVX2"},
+    {GLINT_ISA_AVX512, "AVX512"},
+};
+#define ISA_COUNT (sizeof ISAS / sizeof ISAS[0])
+
+/* Whether the CPU (and OS) support ISAS[i]; __builtin_cpu_supports takes only literals. */
+static int cpu_supports(size_t i) {
+#if defined(GLINT_X86) && (defined(__GNUC__) || defined(__clang__))
+    switch (i) {
+    case 0:
+        return __builtin_cpu_supports("sse2");
+    case 1:
+        return __builtin_cpu_supports("sse4.2");
+    case 2:
+        return __builtin_cpu_supports("avx");
+    case 3:
+        return __builtin_cpu_supports("avx2");
+    case 4: /* Embree's AVX512 target: Skylake-X's set */
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+               __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+               __builtin_cpu_supports("avx512cd");
+    default:
+        return 0;
+    }
+#else
+    (void)i;
+    return 0;
+#endif
+}
+
+/* Whether `word` is one of the space-separated words of line[0, len). */
+static int has_word(const char *line, size_t len, const char *word) {
+    size_t n = strlen(word);
+    for (size_t i = 0; i + n <= len; ++i) {
+        if ((i == 0 || line[i - 1] == ' ') && strncmp(line + i, word, n) == 0 &&
+            (i + n == len || line[i + n] == ' ')) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The line of `text` that starts with `prefix` (its length in *len, without the prefix), or
+ * NULL. */
+static const char *line_after(const char *text, const char *prefix, size_t *len) {
+    const char *p = strstr(text, prefix);
+    if (p == NULL) {
+        return NULL;
+    }
+    p += strlen(prefix);
+    const char *end = strchr(p, '\n');
+    *len = end != NULL ? (size_t)(end - p) : strlen(p);
+    return p;
+}
+
+/* Which kernels a device made with `config` runs, read from what Embree prints with verbose=1
+ * (the same lines in Embree 3 and 4):
+ *     "    Targets : SSE SSE2 ... AVX2  (supported)"        what the config enabled
+ *     "              SSE2 SSE4.2 AVX AVX2 AVX512  (compile time enabled)"
+ * *enabled: the widest of ISAS the config enabled; *kernels: the widest both enabled and in the
+ * library (the kernels Embree selects). Either is NULL when unreadable. */
+static void selected_targets(const char *config, const char **enabled, const char **kernels) {
+    *enabled = *kernels = NULL;
+    char verbose_config[128];
+    snprintf(verbose_config, sizeof verbose_config, "%s,verbose=1", config);
+    char text[16384];
+    size_t n = 0;
+    FILE *capture = tmpfile();
+    int saved = -1;
+    fflush(stdout);
+    if (capture != NULL && (saved = dup(STDOUT_FILENO)) >= 0 &&
+        dup2(fileno(capture), STDOUT_FILENO) >= 0) {
+        RTCDevice device = rtcNewDevice(verbose_config); /* prints as it is created */
+        fflush(stdout);
+        if (device != NULL) {
+            rtcReleaseDevice(device);
+        }
+        fflush(stdout);
+        dup2(saved, STDOUT_FILENO);
+        rewind(capture);
+        n = fread(text, 1, sizeof text - 1, capture);
+    }
+    if (saved >= 0) {
+        close(saved);
+    }
+    if (capture != NULL) {
+        fclose(capture);
+    }
+    text[n] = '\0';
+    size_t supported_len = 0, compiled_len = 0;
+    const char *supported = line_after(text, "\n    Targets : ", &supported_len);
+    const char *compiled = supported != NULL ? line_after(supported, "\n", &compiled_len) : NULL;
+    if (supported == NULL || compiled == NULL || strstr(compiled, "compile time") == NULL) {
+        return;
+    }
+    for (size_t i = 0; i < ISA_COUNT; ++i) {
+        if (has_word(supported, supported_len, ISAS[i].target)) {
+            *enabled = ISAS[i].target;
+            if (has_word(compiled, compiled_len, ISAS[i].target)) {
+                *kernels = ISAS[i].target;
+            }
+        }
+    }
+}
+
+/* The kernel-dependent checks on a device configured with "isa=<name>". Returns the kernels
+ * Embree ran them on (isa->target, unless the library lacks those), NULL if unknown. */
+static const char *run_isa(const isa_run *isa, int same_release) {
+    char config[64];
+    snprintf(config, sizeof config, "isa=%s", isa->name);
+    const char *enabled = NULL, *kernels = NULL;
+    selected_targets(config, &enabled, &kernels);
+    printf("\n-- %s: %s kernels\n", config, kernels != NULL ? kernels : "(unknown)");
+    CHECK(enabled != NULL && kernels != NULL,
+          "could not read which kernels Embree selected for \"%s\" (its verbose output)", config);
+    CHECK(enabled == NULL || strcmp(enabled, isa->target) == 0,
+          "Embree enabled up to %s for \"%s\", not %s: it does not know the name", enabled,
+          config, isa->target);
+    if (kernels != NULL && strcmp(kernels, isa->target) != 0) {
+        printf("note: this library has no %s kernels; %s's ran instead\n", isa->target, kernels);
+    }
+
+    glint_device *d = glint_device_new(config);
+    CHECK(d != NULL, "device \"%s\": %s", config, glint_last_creation_error());
+    if (d == NULL) {
+        return NULL;
+    }
+    glint_scene *s = triangle_scene(d);
+    CHECK(s != NULL, "the one-triangle scene did not build (%s)", config);
+    if (s != NULL) {
+        check_struct_overruns(s, same_release);
+        check_occlusion_convention(s);
+        glint_scene_free(s);
+    }
+    glint_device_free(d);
+    check_lifetimes(config);
+    return kernels;
+}
+
+/* Appends " word" (or "word" first) to the list in buf[0, size). */
+static void append(char *buf, size_t size, const char *word) {
+    size_t used = strlen(buf);
+    snprintf(buf + used, size - used, "%s%s", used > 0 ? " " : "", word);
+}
+
 int main(void) {
+    setvbuf(stdout, NULL, _IOLBF, 0); /* FAIL lines (stderr) stay in order in a piped log */
     glint_set_denormal_modes();
+#if defined(GLINT_X86) && (defined(__GNUC__) || defined(__clang__))
+    __builtin_cpu_init();
+#endif
     glint_device *d = glint_device_new(NULL);
     if (d == NULL) {
         fprintf(stderr, "FAIL: no Embree device: %s\n", glint_last_creation_error());
         return 1;
     }
-    check_versions(d);
-    glint_scene *s = triangle_scene(d);
-    CHECK(s != NULL, "the one-triangle scene did not build");
-    if (s != NULL) {
-        check_struct_overruns(s);
-        check_occlusion_convention(s);
-        glint_scene_free(s);
-    }
+    int same_release = check_versions(d);
     check_errors(d);
     glint_device_free(d);
-    check_lifetimes();
+
+    /* ran: on the ISA's own kernels; other: asked for, but Embree ran other (or unknown)
+     * kernels; unsupported: the CPU lacks the ISA. */
+    char ran[128] = "", other[256] = "", unsupported[128] = "";
+    int runs = 0;
+    for (size_t i = 0; i < ISA_COUNT; ++i) {
+        if (!cpu_supports(i)) {
+            append(unsupported, sizeof unsupported, ISAS[i].name);
+            continue;
+        }
+        ++runs;
+        const char *kernels = run_isa(&ISAS[i], same_release);
+        if (kernels != NULL && strcmp(kernels, ISAS[i].target) == 0) {
+            append(ran, sizeof ran, ISAS[i].name);
+        } else {
+            char entry[64];
+            snprintf(entry, sizeof entry, "%s(on %s kernels)", ISAS[i].name,
+                     kernels != NULL ? kernels : "unknown");
+            append(other, sizeof other, entry);
+        }
+    }
+    if (runs == 0) { /* not x86, or a compiler without __builtin_cpu_supports */
+        printf("\n-- default device (no per-ISA runs on this platform)\n");
+        d = glint_device_new(NULL);
+        glint_scene *s = d != NULL ? triangle_scene(d) : NULL;
+        CHECK(s != NULL, "the one-triangle scene did not build");
+        if (s != NULL) {
+            check_struct_overruns(s, same_release);
+            check_occlusion_convention(s);
+            glint_scene_free(s);
+        }
+        glint_device_free(d);
+        check_lifetimes(NULL);
+    }
+    printf("\nISAs run: %s\n", ran[0] != '\0' ? ran : "(none: default device only)");
+    if (other[0] != '\0') {
+        printf("ISAs asked for but run on other kernels: %s\n", other);
+    }
+    if (unsupported[0] != '\0') {
+        printf("ISAs not run (this CPU lacks them): %s\n", unsupported);
+    }
     CHECK(glint_live_handles() == 0, "%lld handles leaked", (long long)glint_live_handles());
     printf("%s: %d failure(s)\n", failures == 0 ? "shim_test passed" : "shim_test FAILED",
            failures);

@@ -9,6 +9,11 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Embree's kernels: native (Embree picks the widest this CPU runs), or sse2, sse4.2,
+    /// avx, avx2, avx512 to pin them. Pinned kernels give the same images on every CPU that
+    /// has them (sse4.2: every x86-64-v2 CPU). Default: $GLINT_EMBREE_ISA, else native.
+    #[arg(long, global = true, value_name = "ISA")]
+    embree_isa: Option<glint::accel::EmbreeIsa>,
 }
 
 #[derive(Subcommand)]
@@ -28,6 +33,12 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(isa) = cli.embree_isa {
+        if let Err(why) = glint::accel::kernels::set_process_isa(isa) {
+            eprintln!("glint: --embree-isa: {why}");
+            return ExitCode::FAILURE;
+        }
+    }
     let result = match cli.command {
         Command::Render(args) => glint::cli::render::run(args),
         Command::Bench(cmd) => glint::cli::bench::run(cmd),

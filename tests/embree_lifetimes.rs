@@ -32,6 +32,7 @@ fn thousands_of_scenes_release_their_handles() {
         let options = BuildOptions {
             quality: BuildQuality::ALL[i % 3],
             robust: i % 2 == 0,
+            ..BuildOptions::default()
         };
         let accel = EmbreeAccel::build(&meshes, options).expect("build");
         // Use it, so a lazily built structure really exists.

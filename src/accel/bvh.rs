@@ -11,6 +11,7 @@
 //! Embree's default triangle intersector uses, so that both backends agree on edges and at the
 //! ends of the interval.
 
+use super::triangle::{self, to_object};
 use super::{Accel, BackendKind, BuildOptions, BuildQuality, Hit, Placement, Ray, TriangleMesh};
 use glam::{Vec3, Vec3A};
 use obvhs::{BvhBuildParams, cwbvh::CwBvh, ray::RayHit, triangle::Triangle};
@@ -147,7 +148,7 @@ impl Blas {
     /// The unnormalised winding normal of entry `index`.
     fn normal(&self, index: usize) -> Vec3 {
         let tri = &self.triangles[index];
-        Vec3::from((tri.v1 - tri.v0).cross(tri.v2 - tri.v0))
+        triangle::winding_normal(tri.v0, tri.v1, tri.v2)
     }
 
     fn memory_bytes(&self) -> usize {
@@ -155,19 +156,6 @@ impl Blas {
             + self.bvh.primitive_indices.len() * 4
             + self.triangles.len() * std::mem::size_of::<Triangle>()
             + self.ids.len() * 8
-    }
-}
-
-/// A ray carried into a placement's object space: the same parameter `t` names the same
-/// point, since the map is affine.
-#[inline]
-fn to_object(ray: &Ray, placement: &Placement) -> Ray {
-    let m = placement.object_from_world();
-    Ray {
-        origin: m.transform_point3(ray.origin),
-        dir: m.transform_vector3(ray.dir),
-        tnear: ray.tnear,
-        tfar: ray.tfar,
     }
 }
 
@@ -278,30 +266,18 @@ const OBVHS_NODE_T_FLOOR: f32 = 1e-4;
 /// the floor, so that no hit at t ≥ 0 falls under it.
 const TRAVERSAL_SHIFT: f32 = 2.0 * OBVHS_NODE_T_FLOOR;
 
-/// Möller–Trumbore as Embree computes it, scaled by the determinant to defer the division.
-/// Returns `(t, u, v)` with `tnear < t <= tfar` (Embree's interval rule), or `None`.
+/// The hit of `ray` on `tri`, with the arithmetic both backends report ([`triangle`]).
 #[inline(always)]
 fn intersect_triangle(tri: &Triangle, ray: &obvhs::ray::Ray) -> Option<(f32, f32, f32)> {
-    let (tnear, tfar) = (ray.tmin, ray.tmax);
-    let e1 = tri.v0 - tri.v1;
-    let e2 = tri.v2 - tri.v0;
-    let ng = e2.cross(e1);
-    let c = tri.v0 - ray.origin;
-    let r = c.cross(ray.direction);
-    let den = ng.dot(ray.direction);
-    let abs_den = den.abs();
-    let sign = den.signum();
-    let u = r.dot(e2) * sign;
-    let v = r.dot(e1) * sign;
-    if den == 0.0 || u < 0.0 || v < 0.0 || u + v > abs_den {
-        return None;
-    }
-    let t_scaled = ng.dot(c) * sign;
-    if !(abs_den * tnear < t_scaled && t_scaled <= abs_den * tfar) {
-        return None;
-    }
-    let inv = 1.0 / abs_den;
-    Some((t_scaled * inv, u * inv, v * inv))
+    triangle::intersect(
+        tri.v0,
+        tri.v1,
+        tri.v2,
+        ray.origin,
+        ray.direction,
+        ray.tmin,
+        ray.tmax,
+    )
 }
 
 impl Accel for BvhAccel {

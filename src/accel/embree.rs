@@ -7,11 +7,13 @@
 //! - Ray and hit buffers passed to the shim are Rust slices of the shim's own plain structs,
 //!   with the lengths passed alongside.
 
+use super::kernels::{self, EmbreeIsa};
+use super::triangle;
 use super::{
     Accel, AccelError, BackendKind, BuildOptions, BuildQuality, Coherence, Hit, Placement, Ray,
     TriangleMesh,
 };
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use std::ffi::CStr;
 use std::ptr::NonNull;
 use std::sync::Arc;
@@ -75,16 +77,35 @@ unsafe impl Sync for Device {}
 impl Device {
     /// Creates a device with Embree's default configuration.
     pub fn new() -> Result<Self, AccelError> {
-        // SAFETY: a NULL config asks for the defaults.
-        let raw = unsafe { ffi::glint_device_new(std::ptr::null()) };
+        Self::with_config("")
+    }
+
+    /// Creates a device with an Embree configuration string (`isa=sse4.2,threads=2`; empty
+    /// for the defaults).
+    pub fn with_config(config: &str) -> Result<Self, AccelError> {
+        let config = std::ffi::CString::new(config)
+            .map_err(|_| AccelError::Device("the Embree configuration holds a NUL byte".into()))?;
+        // SAFETY: a NUL-terminated string that outlives the call (Embree parses it there).
+        let raw = unsafe { ffi::glint_device_new(config.as_ptr()) };
         match NonNull::new(raw) {
             Some(raw) => Ok(Self { raw }),
             None => {
                 // SAFETY: returns a thread-local NUL-terminated buffer.
                 let why = unsafe { CStr::from_ptr(ffi::glint_last_creation_error()) };
-                Err(AccelError::Device(why.to_string_lossy().into_owned()))
+                Err(AccelError::Device(format!(
+                    "{} (configuration \"{}\")",
+                    why.to_string_lossy(),
+                    config.to_string_lossy()
+                )))
             }
         }
+    }
+
+    /// The widest ray packet this device's kernels run natively (16, 8, 4 or 1): which
+    /// instruction set it got, up to SSE2/SSE4.2 and AVX/AVX2.
+    pub fn native_packet_width(&self) -> u32 {
+        // SAFETY: the device handle is live; the call only reads device properties.
+        unsafe { ffi::glint_device_native_packet_width(self.raw.as_ptr()) as u32 }
     }
 
     /// Takes the first error Embree reported since the last call.
@@ -111,19 +132,31 @@ impl Drop for Device {
     }
 }
 
-/// Builds one process-wide device lazily: creating a device spins up Embree's thread pool, so
-/// sharing one across scenes is what Embree recommends.
-fn shared_device() -> Result<Arc<Device>, AccelError> {
+/// The process-wide device for `isa`, created on first use: creating a device spins up
+/// Embree's thread pool, so sharing one across scenes is what Embree recommends. One device
+/// per configuration string (at most one per instruction set the tests loop over).
+fn shared_device(isa: EmbreeIsa) -> Result<Arc<Device>, AccelError> {
     use std::sync::Mutex;
-    static DEVICE: Mutex<Option<Arc<Device>>> = Mutex::new(None);
-    let mut slot = DEVICE
+    static DEVICES: Mutex<Vec<(String, Arc<Device>)>> = Mutex::new(Vec::new());
+    let config = kernels::device_config(isa, embree_major());
+    let mut devices = DEVICES
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner());
-    if let Some(device) = slot.as_ref() {
+    if let Some((_, device)) = devices.iter().find(|(c, _)| *c == config) {
         return Ok(Arc::clone(device));
     }
-    let device = Arc::new(Device::new()?);
-    *slot = Some(Arc::clone(&device));
+    let device = Device::with_config(&config)?;
+    if let Some(expected) = isa.packet_width() {
+        let got = device.native_packet_width();
+        if got != expected {
+            return Err(AccelError::Device(format!(
+                "asked Embree for its {isa} kernels (\"{config}\") but the device runs \
+                 {got}-wide packets, not {expected}: this Embree library was built without them"
+            )));
+        }
+    }
+    let device = Arc::new(device);
+    devices.push((config, Arc::clone(&device)));
     Ok(device)
 }
 
@@ -147,6 +180,35 @@ pub struct EmbreeAccel {
     children: Vec<EmbreeAccel>,
     /// Embree's bytes for this structure, read from the memory monitor around the build.
     bytes: i64,
+    /// Each mesh's triangles (indexed by glint's geometry id), for [`triangle::refine`]:
+    /// Embree decides which triangle a ray hits, glint computes the hit's `t`, `u`, `v` and
+    /// normal, the same bits whatever kernel Embree chose (see [`super::triangle`]).
+    meshes: Vec<MeshCopy>,
+    /// The kernels this structure's device runs.
+    isa: EmbreeIsa,
+}
+
+/// A copy of one mesh's triangles, in the space Embree holds them in (object space for a
+/// placed mesh).
+#[derive(Default)]
+struct MeshCopy {
+    positions: Vec<Vec3>,
+    indices: Vec<[u32; 3]>,
+}
+
+impl MeshCopy {
+    /// The corners of triangle `prim`, `None` if out of range.
+    #[inline]
+    fn corners(&self, prim: u32) -> Option<[Vec3A; 3]> {
+        let tri = self.indices.get(prim as usize)?;
+        let corner = |i: u32| self.positions.get(i as usize).map(|&p| Vec3A::from(p));
+        Some([corner(tri[0])?, corner(tri[1])?, corner(tri[2])?])
+    }
+
+    fn bytes(&self) -> usize {
+        self.positions.len() * std::mem::size_of::<Vec3>()
+            + self.indices.len() * std::mem::size_of::<[u32; 3]>()
+    }
 }
 
 /// One geometry of the top-level scene: the mesh it draws, which placement, and its transform.
@@ -164,9 +226,17 @@ unsafe impl Send for EmbreeAccel {}
 unsafe impl Sync for EmbreeAccel {}
 
 impl EmbreeAccel {
-    /// Builds a scene on the process-wide device.
+    /// Builds a scene on the process-wide device of the kernels `options` name.
     pub fn build(meshes: &[TriangleMesh<'_>], options: BuildOptions) -> Result<Self, AccelError> {
-        Self::build_on(shared_device()?, meshes, options)
+        let isa = kernels::resolve(options.embree_isa).map_err(AccelError::Device)?;
+        let mut accel = Self::build_on(shared_device(isa)?, meshes, options)?;
+        accel.isa = isa;
+        Ok(accel)
+    }
+
+    /// The kernels this structure's queries run.
+    pub fn isa(&self) -> EmbreeIsa {
+        self.isa
     }
 
     /// Builds a scene on a given device.
@@ -178,6 +248,13 @@ impl EmbreeAccel {
         let before = memory_bytes();
         let mut accel = Self::new_scene(device, options)?;
         accel.triangles = meshes.iter().map(TriangleMesh::drawn_triangles).sum();
+        accel.meshes = meshes
+            .iter()
+            .map(|mesh| MeshCopy {
+                positions: mesh.positions.to_vec(),
+                indices: mesh.indices.to_vec(),
+            })
+            .collect();
         for (index, mesh) in meshes.iter().enumerate() {
             let geom_id = index as u32;
             if mesh.instances.is_empty() {
@@ -214,7 +291,8 @@ impl EmbreeAccel {
             accel.children.push(child);
         }
         accel.commit()?;
-        accel.bytes = memory_bytes() - before;
+        let copies: usize = accel.meshes.iter().map(MeshCopy::bytes).sum();
+        accel.bytes = memory_bytes() - before + copies as i64;
         Ok(accel)
     }
 
@@ -241,6 +319,8 @@ impl EmbreeAccel {
             geometries: Vec::new(),
             children: Vec::new(),
             bytes: 0,
+            meshes: Vec::new(),
+            isa: EmbreeIsa::Native,
         })
     }
 
@@ -305,9 +385,11 @@ impl EmbreeAccel {
         Ok(())
     }
 
-    /// The hit a raw answer describes, in glint's ids and world space.
+    /// The hit a raw answer for `ray` describes, in glint's ids and world space, with `t`,
+    /// `u`, `v` and the normal computed by glint ([`triangle::refine`]) on the triangle
+    /// Embree reported.
     #[inline]
-    fn hit_of(&self, hit: &ffi::glint_hit) -> Option<Hit> {
+    fn hit_of(&self, ray: &Ray, hit: &ffi::glint_hit) -> Option<Hit> {
         if hit.geom_id == ffi::GLINT_INVALID_ID {
             return None;
         }
@@ -317,20 +399,34 @@ impl EmbreeAccel {
             hit.inst_id
         };
         let entry = self.geometries.get(top as usize)?;
-        // Embree's Ng is (v2 − v0) × (v0 − v1) = (v1 − v0) × (v2 − v0): glTF's side already,
-        // in the object space of an instanced geometry.
-        let ng = Vec3::from_array(hit.ng);
+        let corners = self
+            .meshes
+            .get(entry.geom_id as usize)
+            .and_then(|mesh| mesh.corners(hit.prim_id));
+        let object_ray = match &entry.placement {
+            Some(placement) => triangle::to_object(ray, placement),
+            None => *ray,
+        };
+        let (t, u, v, ng) = match corners
+            .and_then(|[a, b, c]| Some((triangle::refine(a, b, c, &object_ray)?, [a, b, c])))
+        {
+            Some(((t, u, v), [a, b, c])) => (t, u, v, triangle::winding_normal(a, b, c)),
+            // Parallel to the plane by glint's arithmetic (Embree's own rounding found a
+            // hit): keep Embree's answer. Its Ng is (v2 − v0) × (v0 − v1) = (v1 − v0) ×
+            // (v2 − v0), glTF's side already, in the object space of an instanced geometry.
+            None => (hit.t, hit.u, hit.v, Vec3::from_array(hit.ng)),
+        };
         let ng = match &entry.placement {
             Some(placement) => placement.normal(ng),
             None => ng,
         };
         Some(Hit {
-            t: hit.t,
+            t,
             geom_id: entry.geom_id,
             prim_id: hit.prim_id,
             instance: entry.instance,
-            u: hit.u,
-            v: hit.v,
+            u,
+            v,
             ng: ng.normalize_or_zero(),
         })
     }
@@ -362,7 +458,9 @@ impl EmbreeAccel {
         coherence: Coherence,
         query: QueryFn<ffi::glint_hit>,
     ) {
-        self.query_chunked(rays, hits, coherence, query, |raw| self.hit_of(raw));
+        self.query_chunked(rays, hits, coherence, query, |ray, raw| {
+            self.hit_of(ray, raw)
+        });
     }
 
     fn query_occlusion(
@@ -372,7 +470,7 @@ impl EmbreeAccel {
         coherence: Coherence,
         query: QueryFn<u8>,
     ) {
-        self.query_chunked(rays, out, coherence, query, |o| *o != 0);
+        self.query_chunked(rays, out, coherence, query, |_, o| *o != 0);
     }
 
     /// Runs `query` over `rays` in stack-allocated chunks of [`CHUNK`] and converts each raw
@@ -383,7 +481,7 @@ impl EmbreeAccel {
         out: &mut [Out],
         coherence: Coherence,
         query: QueryFn<Raw>,
-        convert: impl Fn(&Raw) -> Out,
+        convert: impl Fn(&Ray, &Raw) -> Out,
     ) {
         let coherent = (coherence == Coherence::Coherent) as i32;
         let mut raw_rays = [ffi::glint_ray::default(); CHUNK];
@@ -403,8 +501,8 @@ impl EmbreeAccel {
                     coherent,
                 )
             };
-            for (dst, src) in out_chunk.iter_mut().zip(&raw_out[..n]) {
-                *dst = convert(src);
+            for ((dst, src), ray) in out_chunk.iter_mut().zip(&raw_out[..n]).zip(ray_chunk) {
+                *dst = convert(ray, src);
             }
         }
     }
@@ -441,7 +539,7 @@ impl Accel for EmbreeAccel {
         let mut raw_hit = ffi::glint_hit::default();
         // SAFETY: one ray in, one hit out; the scene is committed.
         unsafe { ffi::glint_intersect1(self.raw.as_ptr(), &raw_ray, &mut raw_hit, 1, 0) };
-        self.hit_of(&raw_hit)
+        self.hit_of(ray, &raw_hit)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
@@ -466,5 +564,13 @@ impl Accel for EmbreeAccel {
 
     fn memory_bytes(&self) -> Option<usize> {
         usize::try_from(self.bytes).ok()
+    }
+
+    fn kernels(&self) -> String {
+        format!(
+            "embree {} {}",
+            embree_version(),
+            kernels::describe(self.isa)
+        )
     }
 }

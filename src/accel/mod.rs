@@ -18,8 +18,11 @@ pub mod embree;
 
 pub mod bvh;
 pub mod instance;
+pub mod kernels;
+mod triangle;
 
 pub use instance::Placement;
+pub use kernels::EmbreeIsa;
 
 use glam::Vec3;
 use std::fmt;
@@ -220,6 +223,9 @@ pub struct BuildOptions {
     /// Embree's robust mode (`RTC_SCENE_FLAG_ROBUST`): watertight traversal at some speed cost.
     /// obvhs has no such switch and ignores it.
     pub robust: bool,
+    /// Which of Embree's kernels to use ([`kernels`]); `None`: the process's choice
+    /// (`--embree-isa`, `GLINT_EMBREE_ISA`, else Embree's own). obvhs ignores it.
+    pub embree_isa: Option<EmbreeIsa>,
 }
 
 /// Whether a batch of rays is coherent (camera rays of neighbouring pixels) or not (bounces).
@@ -296,6 +302,41 @@ pub trait Accel: Send + Sync {
     /// can tell; for benchmarks.
     fn memory_bytes(&self) -> Option<usize> {
         None
+    }
+
+    /// The code that answers the queries, for outputs that record it (partial EXRs): the
+    /// backend, and for Embree its version and kernels (`embree 3.13.5 sse4.2`, `embree
+    /// 3.13.5 native (avx2)`). Two renders whose labels are equal used the same arithmetic.
+    fn kernels(&self) -> String {
+        self.kind().name().to_string()
+    }
+}
+
+/// Every ray-query configuration this build can run on this CPU, with default build settings
+/// otherwise: Embree with its native kernels, Embree pinned to each instruction set the CPU
+/// supports ([`EmbreeIsa::supported`]), then obvhs. Embree's kernels round differently, so a
+/// test that loops over these catches a kernel-dependent assumption on any machine, not only
+/// on the machines whose kernels expose it.
+pub fn every_configuration() -> Vec<(BackendKind, BuildOptions)> {
+    let mut out = Vec::new();
+    if BackendKind::available().contains(&BackendKind::Embree) {
+        for isa in std::iter::once(EmbreeIsa::Native).chain(EmbreeIsa::supported()) {
+            let options = BuildOptions {
+                embree_isa: Some(isa),
+                ..BuildOptions::default()
+            };
+            out.push((BackendKind::Embree, options));
+        }
+    }
+    out.push((BackendKind::Bvh, BuildOptions::default()));
+    out
+}
+
+/// A short name for a configuration from [`every_configuration`]: `embree/sse4.2`, `bvh`.
+pub fn configuration_label(kind: BackendKind, options: &BuildOptions) -> String {
+    match (kind, options.embree_isa) {
+        (BackendKind::Embree, Some(isa)) => format!("embree/{isa}"),
+        (kind, _) => kind.name().to_string(),
     }
 }
 

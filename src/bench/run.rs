@@ -261,9 +261,11 @@ pub fn build_variants(kind: BackendKind) -> Vec<BuildOptions> {
     BuildQuality::ALL
         .iter()
         .flat_map(|&quality| {
-            robust_flags
-                .iter()
-                .map(move |&robust| BuildOptions { quality, robust })
+            robust_flags.iter().map(move |&robust| BuildOptions {
+                quality,
+                robust,
+                embree_isa: None,
+            })
         })
         .collect()
 }

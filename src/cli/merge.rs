@@ -99,5 +99,36 @@ fn check_same_scene(
             Some(_) => {}
         }
     }
+    note_kernels(paths, parts, say);
     Ok(())
+}
+
+/// Notes parts rendered by different ray-query kernels (another Embree version, instruction
+/// set or backend): the merged image is then not bit-identical to a render on one machine,
+/// though it agrees with one within rounding (see the README's "What is bit-identical").
+fn note_kernels(
+    paths: &[PathBuf],
+    parts: &[(PartialImage, Option<SceneTag>)],
+    say: &dyn Fn(String),
+) {
+    let mut seen: Vec<(&str, &Path)> = Vec::new();
+    for (path, (_, tag)) in paths.iter().zip(parts) {
+        if let Some(kernels) = tag.as_ref().and_then(|t| t.kernels.as_deref()) {
+            if !seen.iter().any(|(k, _)| *k == kernels) {
+                seen.push((kernels, path));
+            }
+        }
+    }
+    if seen.len() > 1 {
+        let list: Vec<String> = seen
+            .iter()
+            .map(|(k, p)| format!("{k} ({})", p.display()))
+            .collect();
+        say(format!(
+            "note: the parts were rendered by different ray-query kernels: {}; the merged image \
+             agrees with a single-machine render within rounding, not bit for bit (pin them \
+             with --embree-isa sse4.2 or use --backend bvh for byte-identical parts)",
+            list.join(", ")
+        ));
+    }
 }

@@ -22,6 +22,10 @@ pub struct SceneTag {
     pub scene: String,
     /// 32 hex digits (see the module documentation).
     pub fingerprint: String,
+    /// The ray-query code that rendered the part ([`crate::accel::Accel::kernels`]: backend,
+    /// Embree version and kernels), when known. Not part of the fingerprint: parts rendered
+    /// by different kernels still merge, but not bit for bit as one machine would have.
+    pub kernels: Option<String>,
 }
 
 /// Changes whenever the hashed inputs change meaning.
@@ -67,6 +71,7 @@ impl SceneTag {
         Ok(SceneTag {
             scene: job.scene.label(),
             fingerprint: format!("{:032x}", hash.digest128()),
+            kernels: None,
         })
     }
 }

@@ -5,6 +5,8 @@
 //! Layer attributes `glint.spp`, `glint.seed`, `glint.samples` (`START..END`) say which render
 //! and which samples the part holds, and `glint.scene` and `glint.fingerprint` what it was
 //! rendered from ([`super::fingerprint`]); `glint merge` checks them before adding parts.
+//! `glint.kernels` names the ray-query code that rendered the part (`embree 3.13.5 sse4.2`,
+//! `embree 3.13.5 native (avx2)`, `bvh`): `glint merge` notes when parts differ in it.
 
 use crate::output::fingerprint::SceneTag;
 use crate::output::{OutputError, write_atomically};
@@ -22,6 +24,7 @@ const SEED: &str = "glint.seed";
 const SAMPLES: &str = "glint.samples";
 const SCENE: &str = "glint.scene";
 const FINGERPRINT: &str = "glint.fingerprint";
+const KERNELS: &str = "glint.kernels";
 
 /// Why a partial EXR cannot be read.
 #[derive(Debug, thiserror::Error)]
@@ -102,6 +105,9 @@ pub fn write_partial_exr_tagged(
     if let Some(tag) = tag {
         text(SCENE, tag.scene.clone());
         text(FINGERPRINT, tag.fingerprint.clone());
+        if let Some(kernels) = &tag.kernels {
+            text(KERNELS, kernels.clone());
+        }
     }
     let size = (
         part.radiance_sum.width as usize,
@@ -164,7 +170,11 @@ pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<Scen
     let samples = parse_sample_range(&text(SAMPLES)?)
         .map_err(|e| not_partial(format!("'{SAMPLES}': {e}")))?;
     let tag = match (text(SCENE), text(FINGERPRINT)) {
-        (Ok(scene), Ok(fingerprint)) => Some(SceneTag { scene, fingerprint }),
+        (Ok(scene), Ok(fingerprint)) => Some(SceneTag {
+            scene,
+            fingerprint,
+            kernels: text(KERNELS).ok(),
+        }),
         _ => None,
     };
     let (width, height) = (layer.size.0 as u32, layer.size.1 as u32);
@@ -253,6 +263,7 @@ mod tests {
         let tag = SceneTag {
             scene: "a.glb".into(),
             fingerprint: "0123456789abcdef0123456789abcdef".into(),
+            kernels: Some("embree 3.13.5 sse4.2".into()),
         };
         write_partial_exr_tagged(&path, &part, Some(&tag)).unwrap();
         assert_eq!(read_partial_exr_tagged(&path).unwrap(), (part, Some(tag)));

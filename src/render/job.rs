@@ -678,11 +678,12 @@ fn run_keeping(
             super::partial::render_partial(&inputs, &settings, samples.clone(), progress)?;
         if let Some(out) = output {
             // What the part was rendered from, so that `glint merge` refuses foreign parts.
-            let tag = crate::output::fingerprint::SceneTag::of(job, &camera, width, height)
+            let mut tag = crate::output::fingerprint::SceneTag::of(job, &camera, width, height)
                 .map_err(|source| OutputError::Io {
                     path: out.path.clone(),
                     source,
                 })?;
+            tag.kernels = Some(prepared.accel.kernels());
             crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);

@@ -23,15 +23,22 @@
 //!   surface still casts its shadow (TextureSettingsTest's single-sided cell shows the check
 //!   behind the culled quad in that quad's shadow).
 //!
-//! **Continuing past a rejected hit.** The same ray is traced again with `tnear` set to the
-//! next `f32` above the rejected hit's `t`. Origin and direction are unchanged, so the
-//! interval still ends where it did (a shadow segment keeps its `tfar`), nothing before the
-//! rejected hit can reappear, and the rejected triangle itself cannot: a backend computes the
-//! same `t` for the same ray and triangle. (Should a different kernel, e.g. Embree's packet
-//! path, have reported it a few ulps earlier, the single-ray query finds it once more at its
-//! own `t`, the test rejects it again — its decision depends only on the triangle and the
-//! point — and the next `tnear` lies past it.) A ray gives up after [`MAX_LAYERS`] rejected
-//! hits and keeps the last one, so no input can make a ray loop for long.
+//! **Continuing past a rejected hit.** The same ray is traced again with `tnear` moved past
+//! the rejected hit: origin and direction are unchanged, so the interval still ends where it
+//! did (a shadow segment keeps its `tfar`) and nothing before the rejected hit can reappear.
+//! The new `tnear` lies a relative gap [`REJECT_GAP`] (2⁻²⁰, eight ulps) beyond the rejected
+//! `t`, not one ulp: a backend decides `tnear < t` on the scaled distance `T > |det|·tnear`
+//! before dividing, and Embree divides with an approximate reciprocal whose rounding differs
+//! by kernel and CPU, so the rejected triangle itself can pass that test again while its
+//! reported `t` rounds to just below the new `tnear` (one ulp of progress then never gets past
+//! it, and the ray would end on the rejected face after [`MAX_LAYERS`] tries). Should the
+//! backend still report the same triangle again, the gap doubles. The gap also settles the
+//! edges of closed surfaces: a ray through an edge or vertex shared by several back faces is
+//! culled on all of them, and a front face that meets a culled back face at the same point (a
+//! silhouette edge) is not shown through it. A surface closer than the gap behind a rejected
+//! one (a relative 10⁻⁶ of the distance: coincident faces) is passed with it. A ray gives up
+//! after [`MAX_LAYERS`] rejected hits: it is stopped there by an alpha-tested surface, and
+//! sees nothing if the last rejected hit was a culled back face.
 //!
 //! **Shadow rays** are first asked the backend's cheap any-hit question; only the rays it
 //! finds blocked are traced again closest hit first, until an accepted hit (blocked) or none
@@ -63,6 +70,11 @@ use crate::scene::{AlphaMode, Material, Mesh, Scene, TextureRef};
 /// Most hits one ray may reject before it keeps the last one (a ray through more alpha layers
 /// than this is treated as stopped there).
 pub const MAX_LAYERS: u32 = 1024;
+
+/// How far past a rejected hit, relative to its distance, a re-trace starts (see the module
+/// documentation): 2⁻²⁰, eight ulps of an f32, beyond the few ulps by which two kernels'
+/// distances to the same triangle differ.
+pub const REJECT_GAP: f32 = 1.0 / (1u32 << 20) as f32;
 
 /// Which kind of ray a batch holds (part of the BLEND random numbers' identity).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -294,24 +306,26 @@ impl Visibility {
         &self,
         ctx: &TileContext<'_>,
         ray: &Ray,
-        mut hit: Hit,
+        hit: Hit,
         camera: bool,
         key: u64,
         counts: &mut RayCounts,
     ) -> Option<Hit> {
-        let mut ray = *ray;
-        for _ in 0..MAX_LAYERS {
-            if self.accepts(ctx, &ray, &hit, camera, key) {
-                return Some(hit);
-            }
-            ray.tnear = hit.t.next_up();
-            if ray.tnear > ray.tfar {
-                return None;
-            }
-            counts.retraced += 1;
-            hit = ctx.accel.intersect(&ray)?;
-        }
-        Some(hit)
+        let accepts = |ray: &Ray, hit: &Hit| self.accepts(ctx, ray, hit, camera, key);
+        let culled = |ray: &Ray, hit: &Hit| self.culled(ray, hit, camera);
+        let retrace = |ray: &Ray| ctx.accel.intersect(ray);
+        first_accepted_with(ray, hit, accepts, culled, retrace, &mut counts.retraced)
+    }
+
+    /// Whether camera-ray culling rejects `hit`: a back face of a single-sided material, the
+    /// ray travelling along the geometric normal (the shading's `front_face` is
+    /// `dot(ng, −dir) > 0`; the edge-on case counts as a back face there too).
+    #[inline]
+    fn culled(&self, ray: &Ray, hit: &Hit, camera: bool) -> bool {
+        camera
+            && self
+                .rule(hit)
+                .is_some_and(|rule| rule.cull && hit.ng.dot(ray.dir) >= 0.0)
     }
 
     /// Whether `hit` of `ray` counts.
@@ -320,10 +334,7 @@ impl Visibility {
         let Some(rule) = self.rule(hit) else {
             return true;
         };
-        // A back face: the ray travels along the geometric normal (the shading's
-        // `front_face` is `dot(ng, −dir) > 0`; the edge-on case counts as a back face there
-        // too).
-        if camera && rule.cull && hit.ng.dot(ray.dir) >= 0.0 {
+        if self.culled(ray, hit, camera) {
             return false;
         }
         if rule.coverage == Coverage::Opaque {
@@ -344,6 +355,42 @@ impl Visibility {
             Coverage::Blend => alpha >= 1.0 || (alpha > 0.0 && blend_uniform(key, hit) < alpha),
         }
     }
+}
+
+/// The loop of [`Visibility::first_accepted`] over its three questions (does a hit count, is
+/// it a culled back face, what does the backend find behind a `tnear`), apart so that it can
+/// be tested against a backend that rounds as badly as any kernel may. `retraced` counts the
+/// re-traces.
+pub(crate) fn first_accepted_with(
+    ray: &Ray,
+    mut hit: Hit,
+    accepts: impl Fn(&Ray, &Hit) -> bool,
+    culled: impl Fn(&Ray, &Hit) -> bool,
+    retrace: impl Fn(&Ray) -> Option<Hit>,
+    retraced: &mut u64,
+) -> Option<Hit> {
+    let mut ray = *ray;
+    let mut gap = REJECT_GAP;
+    let mut rejected: Option<(u32, u32, u32)> = None;
+    for _ in 0..MAX_LAYERS {
+        if accepts(&ray, &hit) {
+            return Some(hit);
+        }
+        let id = (hit.geom_id, hit.prim_id, hit.instance);
+        if rejected == Some(id) {
+            // The backend found the rejected triangle again: its distance rounds below the
+            // gap. Widen it until the re-trace gets past (at most ~20 doublings).
+            gap = (gap * 2.0).min(1.0);
+        }
+        rejected = Some(id);
+        ray.tnear = (hit.t.max(ray.tnear) * (1.0 + gap)).next_up();
+        if !(ray.tnear <= ray.tfar) {
+            return None;
+        }
+        *retraced += 1;
+        hit = retrace(&ray)?;
+    }
+    (!culled(&ray, &hit)).then_some(hit)
 }
 
 /// The rule of `mesh` with `material`; constant coverages that let every hit through become
@@ -419,6 +466,71 @@ fn blend_uniform(key: u64, hit: &Hit) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
+
+    /// A backend over surfaces along one ray, as a kernel with an approximate reciprocal
+    /// answers: it accepts a surface whose true distance `d` passes `tnear < d·(1 + 2⁻²¹)`
+    /// (the scaled test, rounded generously) and reports `t` three ulps short of `d`.
+    fn sloppy_backend(surfaces: &[(f32, u32, bool)]) -> impl Fn(&Ray) -> Option<Hit> + '_ {
+        move |ray: &Ray| {
+            surfaces
+                .iter()
+                .filter(|(d, _, _)| ray.tnear < d * (1.0 + 1.0 / (1u32 << 21) as f32))
+                .filter(|(d, _, _)| *d <= ray.tfar)
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|&(d, prim, front)| Hit {
+                    t: f32::from_bits(d.to_bits() - 3),
+                    geom_id: 0,
+                    prim_id: prim,
+                    instance: 0,
+                    u: 0.0,
+                    v: 0.0,
+                    ng: if front { Vec3::Z } else { Vec3::NEG_Z },
+                })
+        }
+    }
+
+    /// Camera-ray culling over [`sloppy_backend`]: the ray travels along −z, so a hit whose
+    /// normal is −z is a back face.
+    fn resolve(surfaces: &[(f32, u32, bool)]) -> (Option<Hit>, u64) {
+        let ray = Ray::new(Vec3::ZERO, Vec3::NEG_Z);
+        let culled = |ray: &Ray, hit: &Hit| hit.ng.dot(ray.dir) >= 0.0;
+        let backend = sloppy_backend(surfaces);
+        let first = backend(&ray).expect("a first hit");
+        let mut retraced = 0;
+        let hit = first_accepted_with(
+            &ray,
+            first,
+            |r, h| !culled(r, h),
+            culled,
+            backend,
+            &mut retraced,
+        );
+        (hit, retraced)
+    }
+
+    #[test]
+    fn a_culled_face_is_passed_even_when_the_backend_rounds_its_distance_short() {
+        // One back face: before the gap, one-ulp steps never got past the reported t (three
+        // ulps short) and the ray kept the culled face after MAX_LAYERS re-traces.
+        let (hit, retraced) = resolve(&[(2.0, 0, false)]);
+        assert_eq!(hit, None);
+        assert!(retraced <= 2, "{retraced} re-traces");
+    }
+
+    #[test]
+    fn edges_and_vertices_of_back_faces_are_culled_on_every_face() {
+        // A ray through an edge (two faces) or a vertex (six faces) of a closed surface seen
+        // from inside: all back faces at one point.
+        let vertex: Vec<_> = (0..6).map(|prim| (3.0, prim, false)).collect();
+        assert_eq!(resolve(&vertex[..2]).0, None);
+        assert_eq!(resolve(&vertex).0, None);
+        // A front face meeting a culled back face at the same point (a silhouette edge) is
+        // not shown through it; one a little further is.
+        assert_eq!(resolve(&[(3.0, 0, false), (3.0, 1, true)]).0, None);
+        let further = resolve(&[(3.0, 0, false), (3.01, 1, true)]).0.expect("hit");
+        assert_eq!(further.prim_id, 1);
+    }
 
     #[test]
     fn blend_uniforms_are_uniform_and_depend_on_ray_and_triangle() {

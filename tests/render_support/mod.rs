@@ -95,14 +95,48 @@ pub fn centre_settings(width: u32, height: u32) -> RenderSettings {
     }
 }
 
-/// Builds `scene` with `backend` and renders it.
+/// A ray-query configuration: a backend, and for Embree which kernels.
+#[derive(Clone, Copy, Debug)]
+pub struct Kernel {
+    pub backend: BackendKind,
+    pub options: BuildOptions,
+}
+
+impl From<BackendKind> for Kernel {
+    fn from(backend: BackendKind) -> Self {
+        Kernel {
+            backend,
+            options: BuildOptions::default(),
+        }
+    }
+}
+
+impl std::fmt::Display for Kernel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&glint::accel::configuration_label(
+            self.backend,
+            &self.options,
+        ))
+    }
+}
+
+/// Every backend and Embree kernel this machine runs ([`glint::accel::every_configuration`]).
+pub fn every_kernel() -> Vec<Kernel> {
+    glint::accel::every_configuration()
+        .into_iter()
+        .map(|(backend, options)| Kernel { backend, options })
+        .collect()
+}
+
+/// Builds `scene` with `kernel` (a backend, or a backend and its build options) and renders it.
 pub fn render_with(
     scene: &Scene,
     camera: &Camera,
-    backend: BackendKind,
+    kernel: impl Into<Kernel>,
     settings: &RenderSettings,
 ) -> RenderOutput {
-    let accel = render::prepare(scene, backend, BuildOptions::default()).expect("build");
+    let kernel = kernel.into();
+    let accel = render::prepare(scene, kernel.backend, kernel.options).expect("build");
     render::render(scene, accel.as_ref(), camera, settings, None).expect("render")
 }
 
