@@ -432,6 +432,63 @@ fn render_shards_merge_through_files_into_the_full_render() {
     assert!(!dir.path().join("bad.exr").exists());
 }
 
+/// Parts rendered by different Embree kernels (here SSE2 and SSE4.2 pinned through
+/// `--embree-isa`, as two farm nodes with different CPUs would run) record them in the EXR, and
+/// `glint merge` says that the merged image is not bit for bit a one-machine render; parts of
+/// one kernel merge without the note.
+#[cfg(feature = "embree")]
+#[test]
+fn merge_notes_parts_rendered_by_different_kernels() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = demo().display().to_string();
+    let part = |isa: &str, shard: &str, out: &str| {
+        let args = [
+            "render",
+            &scene,
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--spp",
+            "2",
+            "-q",
+            "--shard",
+            shard,
+            "-o",
+            out,
+            "--embree-isa",
+            isa,
+        ];
+        let run = glint(&args, dir.path());
+        assert!(run.status.success(), "{}", stderr(&run));
+    };
+    part("sse2", "0/2", "a0.exr");
+    part("sse2", "1/2", "a1.exr");
+    part("sse4.2", "1/2", "b1.exr");
+    let same = glint(&["merge", "a0.exr", "a1.exr", "-o", "same.exr"], dir.path());
+    assert!(same.status.success(), "{}", stderr(&same));
+    assert!(!stderr(&same).contains("kernels"), "{}", stderr(&same));
+    let mixed = glint(
+        &["merge", "a0.exr", "b1.exr", "-o", "mixed.exr"],
+        dir.path(),
+    );
+    assert!(mixed.status.success(), "{}", stderr(&mixed));
+    let note = stderr(&mixed);
+    assert!(
+        note.contains("different ray-query kernels")
+            && note.contains("sse2 (a0.exr)")
+            && note.contains("sse4.2 (b1.exr)"),
+        "{note}"
+    );
+    // An instruction set this CPU lacks, or an unknown name, is an error, not another kernel.
+    let bad = glint(
+        &["render", &scene, "-o", "x.png", "--embree-isa", "avx3"],
+        dir.path(),
+    );
+    assert!(!bad.status.success());
+    assert!(stderr(&bad).contains("avx3"), "{}", stderr(&bad));
+}
+
 #[test]
 fn jobs_sharing_a_scene_match_separate_renders() {
     // One batch job and the same settings through `glint render` give the same file: the
