@@ -33,11 +33,11 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    if let Some(isa) = cli.embree_isa {
-        if let Err(why) = glint::accel::kernels::set_process_isa(isa) {
-            eprintln!("glint: --embree-isa: {why}");
-            return ExitCode::FAILURE;
-        }
+    if let Some(isa) = cli.embree_isa
+        && let Err(why) = glint::accel::kernels::set_process_isa(isa)
+    {
+        eprintln!("glint: --embree-isa: {why}");
+        return ExitCode::FAILURE;
     }
     let result = match cli.command {
         Command::Render(args) => glint::cli::render::run(args),

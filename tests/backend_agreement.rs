@@ -336,15 +336,15 @@ fn every_kernel_reports_the_same_hit_bits() {
     for (name, other) in &answers[1..] {
         let mut same_prim = 0usize;
         for (a, b) in first.iter().zip(other) {
-            if let (Some(a), Some(b)) = (a, b) {
-                if (a.geom_id, a.prim_id) == (b.geom_id, b.prim_id) {
-                    same_prim += 1;
-                    assert_eq!(
-                        (a.t.to_bits(), a.u.to_bits(), a.v.to_bits(), a.ng),
-                        (b.t.to_bits(), b.u.to_bits(), b.v.to_bits(), b.ng),
-                        "{first_name} vs {name}"
-                    );
-                }
+            if let (Some(a), Some(b)) = (a, b)
+                && (a.geom_id, a.prim_id) == (b.geom_id, b.prim_id)
+            {
+                same_prim += 1;
+                assert_eq!(
+                    (a.t.to_bits(), a.u.to_bits(), a.v.to_bits(), a.ng),
+                    (b.t.to_bits(), b.u.to_bits(), b.v.to_bits(), b.ng),
+                    "{first_name} vs {name}"
+                );
             }
         }
         assert!(

@@ -120,7 +120,7 @@ fn hash_partial(path: &Path, kernels: &str) -> u64 {
         .attributes
         .other
         .iter()
-        .find(|(k, _)| k.to_string() == "glint.kernels")
+        .find(|(k, _)| **k == *"glint.kernels")
         .map(|(_, v)| format!("{v:?}"))
         .unwrap_or_default();
     assert!(
@@ -131,7 +131,7 @@ fn hash_partial(path: &Path, kernels: &str) -> u64 {
         .attributes
         .other
         .iter()
-        .filter(|(k, _)| k.to_string() != "glint.kernels")
+        .filter(|(k, _)| **k != *"glint.kernels")
         .map(|(k, v)| format!("{k}={v:?}"))
         .collect();
     attributes.sort();

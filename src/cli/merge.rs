@@ -113,10 +113,10 @@ fn note_kernels(
 ) {
     let mut seen: Vec<(&str, &Path)> = Vec::new();
     for (path, (_, tag)) in paths.iter().zip(parts) {
-        if let Some(kernels) = tag.as_ref().and_then(|t| t.kernels.as_deref()) {
-            if !seen.iter().any(|(k, _)| *k == kernels) {
-                seen.push((kernels, path));
-            }
+        if let Some(kernels) = tag.as_ref().and_then(|t| t.kernels.as_deref())
+            && !seen.iter().any(|(k, _)| *k == kernels)
+        {
+            seen.push((kernels, path));
         }
     }
     if seen.len() > 1 {

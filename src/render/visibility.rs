@@ -66,6 +66,7 @@ use super::tiles::Tile;
 use crate::accel::{Hit, Ray};
 use crate::geometry::SurfaceInteraction;
 use crate::scene::{AlphaMode, Material, Mesh, Scene, TextureRef};
+use std::cmp::Ordering;
 
 /// Most hits one ray may reject before it keeps the last one (a ray through more alpha layers
 /// than this is treated as stopped there).
@@ -384,7 +385,11 @@ pub(crate) fn first_accepted_with(
         }
         rejected = Some(id);
         ray.tnear = (hit.t.max(ray.tnear) * (1.0 + gap)).next_up();
-        if !(ray.tnear <= ray.tfar) {
+        // `tnear > tfar`, or a NaN bound: nothing left to find.
+        if !matches!(
+            ray.tnear.partial_cmp(&ray.tfar),
+            Some(Ordering::Less | Ordering::Equal)
+        ) {
             return None;
         }
         *retraced += 1;
