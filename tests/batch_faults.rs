@@ -691,3 +691,98 @@ fn the_asset_root_binds_batch_converge_and_bench() {
         );
     }
 }
+
+/// The address space a capped batch may use: 4 GiB, in KiB for `ulimit -v`. An allocation of
+/// gigabytes fails (an abort) instead of exhausting the machine.
+const CAP_KIB: u64 = 4 << 20;
+
+/// Most seconds refusing a hostile job file may take (a debug build, a busy machine).
+const QUICK_SECONDS: u64 = 60;
+
+/// Runs `glint batch JOBS.toml --list` on `toml` under a 4 GiB address-space cap, killed after
+/// [`QUICK_SECONDS`], and checks that it is refused: exit code 1 (no signal, no panic), one
+/// line on stderr naming the job file and containing each of `expected`.
+fn list_is_refused(toml: &str, expected: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("jobs.toml"), toml).unwrap();
+    std::fs::copy(demo(), dir.path().join("demo.glb")).unwrap();
+    let started = Instant::now();
+    let out = Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v {CAP_KIB} && exec timeout -s KILL {QUICK_SECONDS} \"$0\" \"$@\""
+        ))
+        .arg(env!("CARGO_BIN_EXE_glint"))
+        .args(["batch", "jobs.toml", "--list"])
+        .env("MALLOC_ARENA_MAX", "2")
+        .current_dir(dir.path())
+        .output()
+        .expect("run glint under ulimit");
+    let seconds = started.elapsed().as_secs();
+    let err = stderr(&out);
+    assert!(seconds < QUICK_SECONDS, "took {seconds} s: {err}");
+    assert_eq!(out.status.code(), Some(1), "{:?}: {err}", out.status);
+    assert!(!err.contains("panicked"), "{err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "expected one line: {err}");
+    assert!(lines[0].contains("jobs.toml"), "{err}");
+    for e in expected {
+        assert!(lines[0].contains(e), "lacks \"{e}\": {err}");
+    }
+    assert!(out.stdout.is_empty(), "listed jobs of a refused file");
+}
+
+/// A zero padding wider than Rust's formatter accepts (65,535) panicked in the sweep
+/// expander, even with `--list`; it is refused naming the key and the width.
+#[test]
+fn an_output_padding_beyond_the_formatter_is_refused() {
+    list_is_refused(
+        "[[sweep]]\nscene = \"demo.glb\"\noutput = \"o-{spp:0999999}.png\"\nspp = [1, 2]\n",
+        &["[[sweep]] 0", "\"spp\"", "999999"],
+    );
+}
+
+/// A sweep whose keys multiply to 10⁹ jobs reserved them all at once; it is refused by its
+/// count, computed before anything is expanded.
+#[test]
+fn a_sweep_of_a_billion_jobs_is_refused_by_its_count() {
+    let thousand = (0..1000)
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let toml = format!(
+        "[[sweep]]\nscene = \"demo.glb\"\noutput = \"o-{{seed}}-{{spp}}-{{frame}}.png\"\n\
+         frames = \"0..1000\"\nfps = 24\nseed = [{thousand}]\nspp = [{thousand}]\n"
+    );
+    list_is_refused(
+        &toml,
+        &[
+            "[[sweep]] 0",
+            "1000000000 jobs",
+            "seed (1000) × spp (1000) × frame (1000)",
+        ],
+    );
+}
+
+/// A sweep of the maximum frame count (10⁶) in a file whose output is taken twice: found
+/// before any job is expanded, not after minutes of expanding and gigabytes of jobs. With a
+/// `[[job]]` beside the full sweep, the file is over the job limit, refused by its count;
+/// one frame fewer, the duplicate is found from the output templates.
+#[test]
+fn a_duplicate_output_is_found_before_a_million_frames_are_expanded() {
+    let file = |frames: u32| {
+        format!(
+            "[[job]]\nscene = \"demo.glb\"\noutput = \"f/0999998.png\"\n\n\
+             [[sweep]]\nscene = \"demo.glb\"\noutput = \"f/{{frame:07}}.png\"\n\
+             frames = \"0..{frames}\"\nfps = 24\n"
+        )
+    };
+    list_is_refused(
+        &file(1_000_000),
+        &["the file", "more than the 1000000 jobs"],
+    );
+    list_is_refused(
+        &file(999_999),
+        &["[[sweep]] 0, frame=999998", "0999998.png", "[[job]] 0"],
+    );
+}

@@ -44,12 +44,51 @@ fn glint(dir: &Path, args: &[&str]) -> Output {
 /// exit, no panic, one line naming the file and containing each of `expected`, no output or
 /// temporary file.
 fn render_fails(dir: &Path, file: &str, extra: &[&str], expected: &[&str]) {
+    let out = glint(dir, &render_args(file, extra));
+    assert_clean_failure(dir, file, &out, expected);
+}
+
+/// The arguments of a 16 × 16, one-sample render of `file` to `out.png`.
+fn render_args<'a>(file: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     let mut args = vec![
         "render", "--quiet", "--width", "16", "--height", "16", "--spp", "1", "-o", "out.png",
     ];
     args.extend_from_slice(extra);
     args.push(file);
-    let out = glint(dir, &args);
+    args
+}
+
+/// The address space a capped run may use: 4 GiB, in KiB for `ulimit -v`. Enough for a
+/// small render; an allocation of gigabytes fails (an abort) instead of exhausting the machine.
+const CAP_KIB: u64 = 4 << 20;
+
+/// Most seconds a refusal of a tiny hostile input may take (a debug build, a busy machine).
+const QUICK_SECONDS: u64 = 60;
+
+/// Like [`render_fails`], with glint's address space capped at [`CAP_KIB`] and the run killed
+/// after [`QUICK_SECONDS`]: a file of a few KB must not cost gigabytes or minutes.
+fn render_fails_capped(dir: &Path, file: &str, extra: &[&str], expected: &[&str]) {
+    let started = std::time::Instant::now();
+    let out = Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v {CAP_KIB} && exec timeout -s KILL {QUICK_SECONDS} \"$0\" \"$@\""
+        ))
+        .arg(env!("CARGO_BIN_EXE_glint"))
+        .args(render_args(file, extra))
+        .args(["--threads", "1"])
+        .env("MALLOC_ARENA_MAX", "2")
+        .current_dir(dir)
+        .output()
+        .expect("run glint under ulimit");
+    let seconds = started.elapsed().as_secs();
+    assert!(seconds < QUICK_SECONDS, "{file}: took {seconds} s");
+    assert_clean_failure(dir, file, &out, expected);
+}
+
+/// The failure contract: non-zero exit, no signal, no panic, one line naming the file and
+/// containing each of `expected`, no output or temporary file.
+fn assert_clean_failure(dir: &Path, file: &str, out: &Output, expected: &[&str]) {
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(
         !out.status.success(),
@@ -417,4 +456,238 @@ fn spp_and_size_upper_bounds() {
         assert!(stderr.contains("limit"), "{args:?}: {stderr}");
         assert!(!dir.path().join("out.png").exists());
     }
+}
+
+/// An image with a data `uri` and a `bufferView` but no `mimeType` (glTF allows exactly one
+/// source): the `gltf` crate took the `bufferView` branch and unwrapped the missing
+/// `mimeType`, a panic.
+#[test]
+fn image_with_both_uri_and_buffer_view() {
+    let dir = TempDir::new("hostile-image-both");
+    let texel = png(1, 1, &[255, 0, 0, 255]);
+    let mut fixture = Fixture::new();
+    let pos = fixture.positions(&TRIANGLE);
+    let uv = fixture.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2", 2);
+    let view = fixture.view(&texel);
+    let doc = fixture.document(json!({
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "TEXCOORD_0": uv}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": data_uri("image/png", &texel), "bufferView": view}]
+    }));
+    write_json(&dir, "both.gltf", &doc);
+    render_fails(
+        dir.path(),
+        "both.gltf",
+        &[],
+        &["image 0", "both", "exactly one"],
+    );
+}
+
+/// A triangle whose node 0 is animated by one channel with `target` (translation keyframes at
+/// t = 0 and 1).
+fn animated_triangle(target: Value) -> Value {
+    let mut f = Fixture::new();
+    let pos = f.positions(&TRIANGLE);
+    let times = f.floats(&[0.0, 1.0], "SCALAR", 1);
+    let moves = f.floats(&[0.0, 0.0, 0.0, 0.5, 0.0, 0.0], "VEC3", 3);
+    f.document(json!({
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.3, 0.3, 3]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}],
+        "animations": [{
+            "samplers": [{"input": times, "output": moves}],
+            "channels": [
+                {"sampler": 0, "target": {"node": 0, "path": "translation"}},
+                {"sampler": 0, "target": target}
+            ]
+        }]
+    }))
+}
+
+/// Renders `file` at `--time 0.5`, which must succeed with a warning naming `expected`.
+fn renders_with_warning(dir: &Path, file: &str, expected: &[&str]) {
+    let out = glint(
+        dir,
+        &[
+            "render", "--width", "16", "--height", "16", "--spp", "1", "--time", "0.5", "-o",
+            "out.png", file,
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(out.status.success(), "{file}: {:?}: {stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "{file}: panic: {stderr}");
+    let warning = stderr
+        .lines()
+        .find(|l| l.contains("animation 0 / channel 1"))
+        .unwrap_or_else(|| panic!("{file}: no warning naming the channel: {stderr}"));
+    for e in expected {
+        assert!(
+            warning.contains(e),
+            "{file}: warning lacks \"{e}\": {warning}"
+        );
+    }
+    assert!(dir.join("out.png").is_file(), "{file}: no image");
+}
+
+/// A channel whose target path is none of glTF's four (here KHR_animation_pointer's
+/// `pointer`) panicked in the `gltf` crate when sampled; it is now ignored with a warning.
+#[test]
+fn animation_channel_with_an_unknown_target_path() {
+    let dir = TempDir::new("hostile-anim-path");
+    let doc = animated_triangle(json!({"node": 0, "path": "pointer"}));
+    write_json(&dir, "path.gltf", &doc);
+    renders_with_warning(
+        dir.path(),
+        "path.gltf",
+        &["path.gltf", "target path", "ignored"],
+    );
+}
+
+/// A channel whose target node is past the file's nodes panicked in the `gltf` crate when
+/// sampled (its schema check leaves channel targets out); it is now ignored with a warning.
+#[test]
+fn animation_channel_with_a_target_node_out_of_range() {
+    let dir = TempDir::new("hostile-anim-node");
+    let doc = animated_triangle(json!({"node": 7, "path": "scale"}));
+    write_json(&dir, "node.gltf", &doc);
+    renders_with_warning(dir.path(), "node.gltf", &["node.gltf", "node 7", "ignored"]);
+}
+
+/// An EXT_meshopt_compression TRIANGLES view of 4 indices: meshoptimizer asserts that the
+/// count is a multiple of 3, which aborted the process (SIGABRT).
+#[cfg(feature = "meshopt")]
+#[test]
+fn meshopt_triangles_count_not_a_multiple_of_three() {
+    let dir = TempDir::new("hostile-meshopt");
+    let mut f = Fixture::new();
+    let pos = f.positions(&TRIANGLE);
+    // Index codec header (0xe1: version 1) and room for the tail; never decoded.
+    let compressed = f.view(&[0xe1; 32]);
+    let decoded = f.view(&[0; 8]);
+    let mut doc = f.document(json!({
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}],
+        "extensionsUsed": ["EXT_meshopt_compression"]
+    }));
+    let view = &doc["bufferViews"][compressed];
+    let extension = json!({"EXT_meshopt_compression": {
+        "buffer": 0, "byteOffset": view["byteOffset"], "byteLength": 32,
+        "byteStride": 2, "count": 4, "mode": "TRIANGLES"
+    }});
+    doc["bufferViews"][decoded]["extensions"] = extension;
+    write_json(&dir, "meshopt.gltf", &doc);
+    render_fails(
+        dir.path(),
+        "meshopt.gltf",
+        &[],
+        &[
+            &format!("buffer view {decoded}"),
+            "count 4",
+            "multiple of 3",
+        ],
+    );
+}
+
+/// A sparse accessor without a `bufferView`: one substituted element (index 0 → `value`)
+/// in `count` zeros.
+fn sparse_viewless(
+    f: &mut Fixture,
+    count: u64,
+    component_type: u32,
+    type_: &str,
+    value: &[u8],
+) -> usize {
+    let indices = f.view(&0u32.to_le_bytes());
+    let values = f.view(value);
+    f.accessor(json!({
+        "componentType": component_type, "count": count, "type": type_,
+        "sparse": {"count": 1, "indices": {"bufferView": indices, "componentType": 5125},
+                   "values": {"bufferView": values}}
+    }))
+}
+
+/// Elements in each hostile view-less accessor: 2·10⁹, gigabytes from a file of 2 KB.
+const HUGE_COUNT: u64 = 2_000_000_000;
+
+/// A sparse accessor without a `bufferView` and a count of 2·10⁹ as a triangle's indices made
+/// glint allocate 8 GB; it is now refused by its count, quickly, under a 4 GiB cap.
+#[test]
+fn sparse_indices_without_a_view_and_a_huge_count() {
+    let dir = TempDir::new("hostile-sparse-indices");
+    let mut f = Fixture::new();
+    let pos = f.positions(&TRIANGLE);
+    let idx = sparse_viewless(&mut f, HUGE_COUNT, 5125, "SCALAR", &1u32.to_le_bytes());
+    let doc = f.document(json!({
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}, "indices": idx}]}]
+    }));
+    write_json(&dir, "indices.gltf", &doc);
+    render_fails_capped(
+        dir.path(),
+        "indices.gltf",
+        &[],
+        &[
+            &format!("indices accessor {idx}"),
+            "no bufferView",
+            "count of 2000000000",
+        ],
+    );
+}
+
+/// The same as POSITION (24 GB).
+#[test]
+fn sparse_positions_without_a_view_and_a_huge_count() {
+    let dir = TempDir::new("hostile-sparse-position");
+    let mut f = Fixture::new();
+    let one: Vec<u8> = [1.0f32, 0.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let pos = sparse_viewless(&mut f, HUGE_COUNT, 5126, "VEC3", &one);
+    f.accessors[pos]["min"] = json!([0.0, 0.0, 0.0]);
+    f.accessors[pos]["max"] = json!([1.0, 0.0, 0.0]);
+    let doc = f.document(json!({
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]
+    }));
+    write_json(&dir, "position.gltf", &doc);
+    render_fails_capped(
+        dir.path(),
+        "position.gltf",
+        &[],
+        &[&format!("POSITION accessor {pos}"), "no bufferView"],
+    );
+}
+
+/// The same as an animation's keyframe times, sampled with `--time` (8 GB).
+#[test]
+fn sparse_keyframe_times_without_a_view_and_a_huge_count() {
+    let dir = TempDir::new("hostile-sparse-times");
+    let mut f = Fixture::new();
+    let pos = f.positions(&TRIANGLE);
+    let times = sparse_viewless(&mut f, HUGE_COUNT, 5126, "SCALAR", &1.0f32.to_le_bytes());
+    let moves = f.floats(&[0.0, 0.0, 0.0], "VEC3", 3);
+    let doc = f.document(json!({
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}],
+        "animations": [{
+            "samplers": [{"input": times, "output": moves}],
+            "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}]
+        }]
+    }));
+    write_json(&dir, "times.gltf", &doc);
+    render_fails_capped(
+        dir.path(),
+        "times.gltf",
+        &["--time", "0.5"],
+        &[
+            "animation 0 / channel 0",
+            &format!("input accessor {times}"),
+            "no bufferView",
+        ],
+    );
 }

@@ -198,40 +198,144 @@ pub fn parse_file(text: &str, path: &Path) -> Result<JobFile, JobFileError> {
         folder,
         defaults: &defaults,
     };
-    let mut jobs = Vec::new();
-    for (i, job) in tables("job")?.iter().enumerate() {
-        let origin = format!("[[job]] {i}");
-        jobs.push(context.job(job, &origin, jobs.len())?);
-    }
-    for (i, sweep_table) in tables("sweep")?.iter().enumerate() {
-        let origin = format!("[[sweep]] {i}");
-        let expanded =
-            sweep::expand(sweep_table, is_list_option).map_err(|message| err(&origin, message))?;
-        for variant in expanded {
-            let origin = format!("{origin}, {}", variant.label);
-            jobs.push(context.job(&variant.table, &origin, jobs.len())?);
-        }
-    }
-    if jobs.is_empty() {
+    let job_tables = tables("job")?;
+    let sweeps = tables("sweep")?
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let origin = format!("[[sweep]] {i}");
+            sweep::plan(t, is_list_option).map_err(|message| err(&origin, message))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    // The whole file is checked before any sweep is expanded: a sweep of a million frames
+    // takes minutes and gigabytes to expand, which a file refused anyway must not cost.
+    check_job_count(job_tables.len(), &sweeps).map_err(|m| err("the file", m))?;
+    if job_tables.is_empty() && sweeps.is_empty() {
         return Err(err(
             "the file",
             "holds no job: add a [[job]] or [[sweep]] table".into(),
         ));
     }
+    check_unique_outputs(&job_tables, &sweeps, &defaults, folder, &err)?;
+    let mut jobs = Vec::new();
+    for (i, job) in job_tables.iter().enumerate() {
+        let origin = format!("[[job]] {i}");
+        jobs.push(context.job(job, &origin, jobs.len())?);
+    }
+    for (i, planned) in sweeps.iter().enumerate() {
+        let origin = format!("[[sweep]] {i}");
+        for index in 0..planned.len() {
+            let variant = planned
+                .variant(index)
+                .map_err(|message| err(&origin, message))?;
+            let origin = format!("{origin}, {}", variant.label);
+            jobs.push(context.job(&variant.table, &origin, jobs.len())?);
+        }
+    }
+    // The ground truth, on the parsed paths: catches what the templates alone cannot (an
+    // output given as a number).
     let mut outputs = std::collections::HashMap::new();
     for job in &jobs {
         if let Some(first) = outputs.insert(job.output().to_path_buf(), job.origin.clone()) {
-            return Err(err(
-                &job.origin,
-                format!(
-                    "writes {}, as {first} does: give each job its own output (in a sweep, put \
-                     the swept keys in the name, e.g. \"out-{{spp}}.png\")",
-                    job.output().display()
-                ),
-            ));
+            return Err(err(&job.origin, duplicate_output(job.output(), &first)));
         }
     }
     Ok(JobFile { jobs, output_root })
+}
+
+/// The message for a job that writes `path`, as the job `first` does.
+fn duplicate_output(path: &Path, first: &str) -> String {
+    format!(
+        "writes {}, as {first} does: give each job its own output (in a sweep, put the swept \
+         keys in the name, e.g. \"out-{{spp}}.png\")",
+        path.display()
+    )
+}
+
+/// Refuses a file whose `[[job]]` tables and sweeps together give more than
+/// [`sweep::MAX_JOBS`] jobs (counted without expanding any sweep).
+fn check_job_count(jobs: usize, sweeps: &[sweep::Sweep]) -> Result<(), String> {
+    let total = sweeps
+        .iter()
+        .try_fold(jobs, |n, s| n.checked_add(s.len()))
+        .filter(|&n| n <= sweep::MAX_JOBS);
+    match total {
+        Some(_) => Ok(()),
+        None => Err(format!(
+            "its [[job]] tables and sweeps give more than the {} jobs a job file may hold \
+             (split it over several job files)",
+            sweep::MAX_JOBS
+        )),
+    }
+}
+
+/// Where a job of the file comes from, for the duplicate-output message.
+#[derive(Clone, Copy)]
+enum JobSource {
+    /// `[[job]] N`.
+    Job(usize),
+    /// Job `index` of `[[sweep]] N`.
+    Sweep(usize, usize),
+}
+
+/// Refuses two jobs that write the same file, from the tables and the sweeps' output
+/// templates alone (no sweep is expanded). An output that is not a string is left to the
+/// check on the parsed jobs.
+fn check_unique_outputs(
+    job_tables: &[Table],
+    sweeps: &[sweep::Sweep],
+    defaults: &Table,
+    folder: &Path,
+    err: &dyn Fn(&str, String) -> JobFileError,
+) -> Result<(), JobFileError> {
+    let default_output = defaults.get("output").and_then(Value::as_str);
+    let describe = |source: JobSource| -> String {
+        match source {
+            JobSource::Job(i) => format!("[[job]] {i}"),
+            JobSource::Sweep(s, index) => {
+                let label = sweeps[s]
+                    .variant(index)
+                    .map(|v| v.label)
+                    .unwrap_or_default();
+                format!("[[sweep]] {s}, {label}")
+            }
+        }
+    };
+    let mut seen: std::collections::HashMap<PathBuf, JobSource> = Default::default();
+    let mut record = |name: &str, source: JobSource| -> Result<(), JobFileError> {
+        let path = folder.join(name);
+        match seen.get(&path) {
+            Some(&first) => Err(err(
+                &describe(source),
+                duplicate_output(&path, &describe(first)),
+            )),
+            None => {
+                seen.insert(path, source);
+                Ok(())
+            }
+        }
+    };
+    for (i, table) in job_tables.iter().enumerate() {
+        if let Some(name) = table.get("output").map_or(default_output, Value::as_str) {
+            record(name, JobSource::Job(i))?;
+        }
+    }
+    for (s, planned) in sweeps.iter().enumerate() {
+        for index in 0..planned.len() {
+            let own = planned
+                .output(index)
+                .map_err(|message| err(&format!("[[sweep]] {s}"), message))?;
+            let fallback = if planned.sets("output") {
+                None
+            } else {
+                default_output
+            };
+            if let Some(name) = own.as_deref().or(fallback) {
+                record(name, JobSource::Sweep(s, index))?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Whether option `key` takes a list of values (`light`, `aov`), so that an array is its

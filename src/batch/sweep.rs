@@ -43,11 +43,42 @@ struct Dimension {
 /// Most frames one sweep may have (as for an orbit).
 const MAX_FRAMES: i64 = 1_000_000;
 
+/// Most jobs one job file may hold, its `[[job]]` tables and its sweeps' products together:
+/// as many as the longest frame sweep. A file is refused by this count, computed with checked
+/// arithmetic before any sweep is expanded, so that a product of a few long lists is never
+/// materialised.
+pub const MAX_JOBS: usize = 1_000_000;
+
+/// Widest zero padding `{key:0N}` an output may ask for: 255, the longest file name most file
+/// systems allow (Rust's formatter itself panics on widths above 65,535).
+pub const MAX_PAD_WIDTH: usize = 255;
+
+/// One `[[sweep]]` table, checked but not expanded: its jobs are made one at a time, by index,
+/// so that a job file can be checked whole (counts, output names) before any is.
+pub struct Sweep {
+    /// The keys every job of the sweep shares.
+    base: Table,
+    /// The swept dimensions, the first varying slowest.
+    dimensions: Vec<Dimension>,
+    /// The sweep's own `output` template, if it has one.
+    output: Option<String>,
+    /// How many jobs the sweep gives (the product of the dimensions' lengths).
+    len: usize,
+}
+
 /// Expands one `[[sweep]]` table. `is_list_option` says which keys take a list as their value.
 pub fn expand(
     table: &Table,
     is_list_option: impl Fn(&str) -> bool,
 ) -> Result<Vec<Variant>, String> {
+    let sweep = plan(table, is_list_option)?;
+    (0..sweep.len()).map(|index| sweep.variant(index)).collect()
+}
+
+/// Checks one `[[sweep]]` table without expanding it: its keys, its frames, its output
+/// template (every swept key named, paddings at most [`MAX_PAD_WIDTH`]) and its job count (at
+/// most [`MAX_JOBS`]). `is_list_option` says which keys take a list as their value.
+pub fn plan(table: &Table, is_list_option: impl Fn(&str) -> bool) -> Result<Sweep, String> {
     let mut base = Table::new();
     let mut dimensions = Vec::new();
     for (key, value) in table {
@@ -71,6 +102,27 @@ pub fn expand(
             }
         }
     }
+    if let Some(frame) = frame_dimension(table)? {
+        dimensions.push(frame);
+    }
+    let output = match base.get("output") {
+        Some(Value::String(s)) => Some(s.clone()),
+        _ => None,
+    };
+    if let Some(output) = &output {
+        check_template(output, &dimensions)?;
+    }
+    let len = job_count(&dimensions)?;
+    Ok(Sweep {
+        base,
+        dimensions,
+        output,
+        len,
+    })
+}
+
+/// The frame dimension of an orbit and/or `frames`, if the sweep has either.
+fn frame_dimension(table: &Table) -> Result<Option<Dimension>, String> {
     let frames = match table.get("orbit") {
         None => None,
         Some(Value::Table(orbit)) => {
@@ -85,23 +137,17 @@ pub fn expand(
         }
     };
     let animation = animation_frames(table)?;
-    match (frames, animation) {
-        (None, None) => {}
-        (Some(cameras), None) => dimensions.push(Dimension {
-            key: "frame".into(),
-            values: cameras
-                .into_iter()
-                .enumerate()
-                .map(|(k, camera)| (vec![("camera".to_string(), camera)], k.to_string()))
-                .collect(),
-        }),
-        (None, Some(times)) => dimensions.push(Dimension {
-            key: "frame".into(),
-            values: times
-                .into_iter()
-                .map(|(frame, time)| (vec![("time".to_string(), time)], frame.to_string()))
-                .collect(),
-        }),
+    let values = match (frames, animation) {
+        (None, None) => return Ok(None),
+        (Some(cameras), None) => cameras
+            .into_iter()
+            .enumerate()
+            .map(|(k, camera)| (vec![("camera".to_string(), camera)], k.to_string()))
+            .collect(),
+        (None, Some(times)) => times
+            .into_iter()
+            .map(|(frame, time)| (vec![("time".to_string(), time)], frame.to_string()))
+            .collect(),
         (Some(cameras), Some(times)) => {
             if cameras.len() != times.len() {
                 return Err(format!(
@@ -111,75 +157,178 @@ pub fn expand(
                     times.len()
                 ));
             }
-            dimensions.push(Dimension {
-                key: "frame".into(),
-                values: cameras
-                    .into_iter()
-                    .zip(times)
-                    .map(|(camera, (frame, time))| {
-                        (
-                            vec![("camera".to_string(), camera), ("time".to_string(), time)],
-                            frame.to_string(),
-                        )
-                    })
-                    .collect(),
-            });
+            cameras
+                .into_iter()
+                .zip(times)
+                .map(|(camera, (frame, time))| {
+                    (
+                        vec![("camera".to_string(), camera), ("time".to_string(), time)],
+                        frame.to_string(),
+                    )
+                })
+                .collect()
         }
-    }
-
-    let output = match base.get("output") {
-        Some(Value::String(s)) => Some(s.clone()),
-        _ => None,
     };
-    if let Some(output) = &output {
-        for d in dimensions.iter().filter(|d| d.values.len() > 1) {
-            if !has_placeholder(output, &d.key) {
-                return Err(format!(
-                    "output \"{output}\" must contain {{{}}}: the sweep gives {} values of {}, \
-                     and each needs its own file",
-                    d.key,
-                    d.values.len(),
-                    d.key
-                ));
-            }
+    Ok(Some(Dimension {
+        key: "frame".into(),
+        values,
+    }))
+}
+
+/// Checks an output template against the sweep's dimensions: every key with more than one
+/// value appears, and every `{key:0N}` of a swept key is closed and pads to at most
+/// [`MAX_PAD_WIDTH`].
+fn check_template(output: &str, dimensions: &[Dimension]) -> Result<(), String> {
+    for d in dimensions.iter().filter(|d| d.values.len() > 1) {
+        if !has_placeholder(output, &d.key) {
+            return Err(format!(
+                "output \"{output}\" must contain {{{}}}: the sweep gives {} values of {}, \
+                 and each needs its own file",
+                d.key,
+                d.values.len(),
+                d.key
+            ));
         }
+    }
+    for d in dimensions {
+        let open = format!("{{{}:", d.key);
+        let mut rest = output;
+        while let Some(start) = rest.find(&open) {
+            rest = &rest[start + open.len()..];
+            let end = rest
+                .find('}')
+                .ok_or_else(|| format!("output \"{output}\": unclosed {open}"))?;
+            pad_width(output, &d.key, &rest[..end])?;
+            rest = &rest[end + 1..];
+        }
+    }
+    Ok(())
+}
+
+/// The width of a zero padding `spec` (`03` in `{key:03}`), at most [`MAX_PAD_WIDTH`].
+fn pad_width(template: &str, key: &str, spec: &str) -> Result<usize, String> {
+    let width: usize = spec
+        .strip_prefix('0')
+        .and_then(|w| w.parse().ok())
+        .ok_or_else(|| {
+            format!(
+                "output \"{template}\": {{{key}:{spec}}} is not a zero padding like {{{key}:03}}"
+            )
+        })?;
+    if width > MAX_PAD_WIDTH {
+        return Err(format!(
+            "output \"{template}\": {{{key}:{spec}}} pads key \"{key}\" to width {width}, more than \
+             the {MAX_PAD_WIDTH} glint accepts (no file name is longer); use a width like {{{key}:04}}"
+        ));
+    }
+    Ok(width)
+}
+
+/// The number of jobs `dimensions` give (their product), refused above [`MAX_JOBS`]; computed
+/// with checked arithmetic, so that no product overflows.
+fn job_count(dimensions: &[Dimension]) -> Result<usize, String> {
+    let count = dimensions
+        .iter()
+        .try_fold(1usize, |n, d| n.checked_mul(d.values.len()));
+    match count {
+        Some(count) if count <= MAX_JOBS => Ok(count),
+        _ => {
+            let factors: Vec<String> = dimensions
+                .iter()
+                .map(|d| format!("{} ({})", d.key, d.values.len()))
+                .collect();
+            let total = count.map_or_else(|| "more than 2^64".to_string(), |n| n.to_string());
+            Err(format!(
+                "gives {total} jobs ({}), more than the {MAX_JOBS} a job file may hold \
+                 (sweep fewer values, or split the sweep over several job files)",
+                factors.join(" × ")
+            ))
+        }
+    }
+}
+
+impl Sweep {
+    /// How many jobs the sweep gives.
+    pub fn len(&self) -> usize {
+        self.len
     }
 
-    // Each variant: its table and the (key, text) of every swept dimension.
-    let mut variants: Vec<(Table, Vec<(&str, &str)>)> = vec![(base, Vec::new())];
-    for d in &dimensions {
-        let mut next = Vec::with_capacity(variants.len() * d.values.len());
-        for (table, texts) in &variants {
-            for (sets, text) in &d.values {
-                let mut table = table.clone();
-                for (key, value) in sets {
-                    table.insert(key.clone(), value.clone());
-                }
-                let mut texts = texts.clone();
-                texts.push((d.key.as_str(), text.as_str()));
-                next.push((table, texts));
+    /// Whether the sweep gives no job (never: every swept list has a value).
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The value index of each dimension for job `index` (the last dimension fastest).
+    fn digits(&self, mut index: usize) -> Vec<usize> {
+        let mut digits = vec![0; self.dimensions.len()];
+        for (digit, d) in digits.iter_mut().zip(&self.dimensions).rev() {
+            let n = d.values.len().max(1);
+            *digit = index % n;
+            index /= n;
+        }
+        digits
+    }
+
+    /// The (key, text) of every dimension for job `index`.
+    fn texts(&self, index: usize) -> Vec<(&str, &str)> {
+        self.dimensions
+            .iter()
+            .zip(self.digits(index))
+            .map(|(d, k)| (d.key.as_str(), d.values[k].1.as_str()))
+            .collect()
+    }
+
+    /// Whether the sweep sets `key` itself (in every job, or swept), rather than leaving it
+    /// to `[defaults]`.
+    pub fn sets(&self, key: &str) -> bool {
+        self.base.contains_key(key) || self.dimensions.iter().any(|d| d.key == key)
+    }
+
+    /// The output name of job `index`: the sweep's template filled, or the swept `output`
+    /// value; `None` when the sweep names no output as a string.
+    pub fn output(&self, index: usize) -> Result<Option<String>, String> {
+        let Some(output) = &self.output else {
+            let swept = self
+                .dimensions
+                .iter()
+                .zip(self.digits(index))
+                .find_map(|(d, k)| {
+                    d.values[k]
+                        .0
+                        .iter()
+                        .find(|(key, _)| key == "output")
+                        .and_then(|(_, value)| value.as_str().map(str::to_string))
+                });
+            return Ok(swept);
+        };
+        let mut name = output.clone();
+        for (key, text) in self.texts(index) {
+            name = fill(&name, key, text)?;
+        }
+        Ok(Some(name))
+    }
+
+    /// Job `index` (from 0 to [`Sweep::len`]) of the sweep.
+    pub fn variant(&self, index: usize) -> Result<Variant, String> {
+        let mut table = self.base.clone();
+        for (d, k) in self.dimensions.iter().zip(self.digits(index)) {
+            for (key, value) in &d.values[k].0 {
+                table.insert(key.clone(), value.clone());
             }
         }
-        variants = next;
+        if self.output.is_some()
+            && let Some(name) = self.output(index)?
+        {
+            table.insert("output".into(), Value::String(name));
+        }
+        let label = self
+            .texts(index)
+            .iter()
+            .map(|(key, text)| format!("{key}={text}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        Ok(Variant { table, label })
     }
-    variants
-        .into_iter()
-        .map(|(mut table, texts)| {
-            if let Some(output) = &output {
-                let mut name = output.clone();
-                for (key, text) in &texts {
-                    name = fill(&name, key, text)?;
-                }
-                table.insert("output".into(), Value::String(name));
-            }
-            let label = texts
-                .iter()
-                .map(|(key, text)| format!("{key}={text}"))
-                .collect::<Vec<_>>()
-                .join(", ");
-            Ok(Variant { table, label })
-        })
-        .collect()
 }
 
 /// The frames of `frames` and `fps`, as (frame number, `time` value), if the sweep has them.
@@ -262,13 +411,7 @@ fn fill(template: &str, key: &str, text: &str) -> Result<String, String> {
         let end = rest
             .find('}')
             .ok_or_else(|| format!("output \"{template}\": unclosed {{{key}:"))?;
-        let spec = &rest[..end];
-        let width: usize = spec
-            .strip_prefix('0')
-            .and_then(|w| w.parse().ok())
-            .ok_or_else(|| {
-                format!("output \"{template}\": {{{key}:{spec}}} is not a zero padding like {{{key}:03}}")
-            })?;
+        let width = pad_width(template, key, &rest[..end])?;
         let padded = format!("{text:0>width$}");
         out = format!("{}{padded}{}", &out[..start], &rest[end + 1..]);
     }
@@ -391,6 +534,41 @@ mod tests {
     fn an_output_without_the_swept_key_is_rejected() {
         let err = sweep("output = \"same.png\"\nspp = [1, 2]").unwrap_err();
         assert!(err.contains("{spp}"), "{err}");
+    }
+
+    #[test]
+    fn paddings_and_products_are_checked_before_expanding() {
+        let err = sweep("output = \"o{spp:070000}.png\"\nspp = [1, 2]").unwrap_err();
+        assert!(err.contains("\"spp\"") && err.contains("70000"), "{err}");
+        assert!(sweep("output = \"o{spp:0255}.png\"\nspp = [1, 2]").is_ok());
+        let thousand: Vec<String> = (0..1000).map(|i| i.to_string()).collect();
+        let list = thousand.join(", ");
+        let err = plan(
+            &format!("output = \"{{a}}{{b}}{{c}}\"\na = [{list}]\nb = [{list}]\nc = [{list}]")
+                .parse::<Table>()
+                .unwrap(),
+            |_| false,
+        )
+        .err()
+        .unwrap();
+        assert!(err.contains("1000000000 jobs"), "{err}");
+    }
+
+    #[test]
+    fn jobs_made_by_index_follow_the_expansion_order() {
+        let planned = plan(
+            &"output = \"{a}-{b}\"\na = [1, 2]\nb = [3, 4, 5]"
+                .parse::<Table>()
+                .unwrap(),
+            |_| false,
+        )
+        .unwrap();
+        assert_eq!(planned.len(), 6);
+        let names: Vec<String> = (0..6)
+            .map(|i| planned.output(i).unwrap().unwrap())
+            .collect();
+        assert_eq!(names, ["1-3", "1-4", "1-5", "2-3", "2-4", "2-5"]);
+        assert_eq!(planned.variant(4).unwrap().label, "a=2, b=4");
     }
 
     #[test]

@@ -129,6 +129,9 @@ pub fn check(
         ));
     }
     let element = accessor.size();
+    if accessor.view().is_none() {
+        check_viewless_budget(count, element, buffers).map_err(fail)?;
+    }
     if let Some(view) = accessor.view() {
         let bytes = view_bytes(&view, buffers, &format!("{primitive}: {semantic}"), origin)?;
         let stride = view.stride().unwrap_or(element);
@@ -213,6 +216,31 @@ pub fn check(
         })?;
     }
     Ok(())
+}
+
+/// Refuses an accessor without a buffer view whose `count` elements (all zeros but for its
+/// sparse substitutes) would take more than [`viewless_budget`] bytes: such an accessor
+/// costs nothing in the file, so a 1 KB file could otherwise have glint allocate gigabytes.
+fn check_viewless_budget(count: usize, element: usize, buffers: &[Vec<u8>]) -> Result<(), String> {
+    let budget = viewless_budget(buffers);
+    let bytes = count.saturating_mul(element);
+    if bytes <= budget {
+        return Ok(());
+    }
+    Err(format!(
+        "has no bufferView but a count of {count} ({bytes} bytes of {element}-byte elements), \
+         more than the {budget} bytes glint allows such an accessor in this file (the larger of \
+         the file's buffer data and {} bytes); the count is corrupt, re-export the file",
+        super::limits::VIEWLESS_ACCESSOR_FLOOR_BYTES
+    ))
+}
+
+/// Most bytes one accessor without a buffer view may expand to: the file's buffer data (a
+/// view-less accessor, such as a sparse morph target, mirrors an attribute whose data is in
+/// the buffers), but at least [`VIEWLESS_ACCESSOR_FLOOR_BYTES`](super::limits::VIEWLESS_ACCESSOR_FLOOR_BYTES).
+pub fn viewless_budget(buffers: &[Vec<u8>]) -> usize {
+    let data: usize = buffers.iter().map(Vec::len).fold(0, usize::saturating_add);
+    data.max(super::limits::VIEWLESS_ACCESSOR_FLOOR_BYTES)
 }
 
 /// Checks that `count` elements of `element` bytes, `stride` apart from `offset`, fit in

@@ -6,7 +6,7 @@
 //! instance as a placement of it (`sharing`), so memory grows with the unique geometry.
 
 use super::LoadError;
-use super::accessors;
+use super::accessors::{self, Layout};
 use super::nodes::node_label;
 use super::quantization::{self, INSTANCE_ROTATION, INSTANCE_VEC3};
 use super::source::Origin;
@@ -56,35 +56,34 @@ pub fn transforms(
     let translation = accessor("TRANSLATION")?;
     let rotation = accessor("ROTATION")?;
     let scale = accessor("SCALE")?;
-    let mut count = None;
-    for (name, a, allowed) in [
+    // The counts first: the instance limit is the one to name when a count is hostile.
+    let present: Vec<(&str, &::gltf::Accessor<'_>, &[Layout])> = [
         ("TRANSLATION", &translation, INSTANCE_VEC3),
         ("ROTATION", &rotation, INSTANCE_ROTATION),
         ("SCALE", &scale, INSTANCE_VEC3),
-    ] {
-        let Some(a) = a else { continue };
-        accessors::check(a, name, allowed, &label, buffers, origin)?;
-        match count {
-            None => count = Some(a.count()),
-            Some(c) if c != a.count() => {
-                return Err(fail(format!(
-                    "{name} accessor {} has {} instances, others have {c} (re-export the scene)",
-                    a.index(),
-                    a.count()
-                )));
-            }
-            Some(_) => {}
-        }
-    }
-    let Some(count) = count else {
+    ]
+    .into_iter()
+    .filter_map(|(name, a, allowed)| a.as_ref().map(|a| (name, a, allowed)))
+    .collect();
+    let Some(count) = present.first().map(|(_, a, _)| a.count()) else {
         return Err(fail(
             "has none of TRANSLATION, ROTATION, SCALE (re-export the scene)".into(),
         ));
     };
+    if let Some((name, a, _)) = present.iter().find(|(_, a, _)| a.count() != count) {
+        return Err(fail(format!(
+            "{name} accessor {} has {} instances, others have {count} (re-export the scene)",
+            a.index(),
+            a.count()
+        )));
+    }
     if count > MAX_INSTANCES {
         return Err(fail(format!(
             "has {count} instances, more than glint's limit of {MAX_INSTANCES} (split the node)"
         )));
+    }
+    for (name, a, allowed) in &present {
+        accessors::check(a, name, allowed, &label, buffers, origin)?;
     }
     let read3 =
         |a: &Option<::gltf::Accessor<'_>>| a.as_ref().map(|a| quantization::read::<3>(a, buffers));

@@ -21,6 +21,13 @@ pub const MAX_COORDINATE: f32 = (1u64 << 40) as f32;
 /// (3.4e38), so no pixel becomes infinite.
 pub const MAX_EMISSION: f32 = 1e20;
 
+/// Least number of bytes an accessor without a buffer view may always expand to (1 MiB:
+/// 87,381 zeroed VEC3 floats), whatever the size of the file's buffers. Above it such an
+/// accessor may expand to at most as many bytes as the file's buffers hold: its elements cost
+/// nothing in the file, and a sane one mirrors data that is in the buffers (a sparse morph
+/// target has as many elements as the POSITION it displaces).
+pub const VIEWLESS_ACCESSOR_FLOOR_BYTES: usize = 1 << 20;
+
 /// Options of a load: the asset root and the size budgets.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct LoadOptions {

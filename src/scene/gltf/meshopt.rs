@@ -101,14 +101,16 @@ pub fn decode_views(
                     compressed.byte_offset, compressed.byte_length, compressed.buffer
                 ))
             })?;
-        let decoded = decode(source, &compressed).map_err(fail)?;
-        let length = decoded.len();
-        if (length as u64) != view.byte_length.0 {
+        let expected = (compressed.count as u64).saturating_mul(compressed.byte_stride as u64);
+        if expected != view.byte_length.0 {
             return Err(fail(format!(
-                "decodes to {length} bytes, but the view declares byteLength {} (the file is corrupt; re-export it)",
-                view.byte_length.0
+                "count {} × byteStride {} is {expected} bytes, but the view declares byteLength {} \
+                 (the file is corrupt; re-export it)",
+                compressed.count, compressed.byte_stride, view.byte_length.0
             )));
         }
+        let decoded = decode(source, &compressed).map_err(fail)?;
+        let length = decoded.len();
         view.buffer = ::gltf::json::Index::new(root.buffers.len() as u32);
         view.byte_offset = Some(USize64(0));
         root.buffers.push(::gltf::json::Buffer {
@@ -155,7 +157,57 @@ macro_rules! vertex_strides {
     };
 }
 
-fn decode(source: &[u8], c: &Compressed) -> Result<Vec<u8>, String> {
+/// Most bytes one vertex of the ATTRIBUTES codec may have (meshoptimizer asserts it).
+const MAX_VERTEX_STRIDE: usize = 256;
+
+/// Checks what meshoptimizer's decoders and filters assert (an assertion aborts the process,
+/// which no Rust code can catch) and what the extension requires, before any is called:
+///
+/// - ATTRIBUTES: `byteStride` a multiple of 4 from 4 to 256 (`meshopt_decodeVertexBuffer`);
+/// - TRIANGLES: `byteStride` 2 or 4 and `count` a multiple of 3 (`meshopt_decodeIndexBuffer`);
+/// - INDICES: `byteStride` 2 or 4 (`meshopt_decodeIndexSequence`);
+/// - a filter other than NONE only in ATTRIBUTES mode (the extension's rule; the filters'
+///   own stride rules are checked by [`apply_filter`]);
+/// - at most [`MAX_DECODED_BYTES`] of output.
+fn check_preconditions(c: &Compressed) -> Result<(), String> {
+    match c.mode.as_str() {
+        "ATTRIBUTES" => {
+            if c.byte_stride == 0
+                || c.byte_stride > MAX_VERTEX_STRIDE
+                || !c.byte_stride.is_multiple_of(4)
+            {
+                return Err(format!(
+                    "byteStride {} is not a multiple of 4 between 4 and {MAX_VERTEX_STRIDE}, as ATTRIBUTES mode requires",
+                    c.byte_stride
+                ));
+            }
+        }
+        "TRIANGLES" | "INDICES" => {
+            if c.byte_stride != 2 && c.byte_stride != 4 {
+                return Err(format!(
+                    "byteStride {} is not 2 or 4, as {} mode requires",
+                    c.byte_stride, c.mode
+                ));
+            }
+            if c.mode == "TRIANGLES" && !c.count.is_multiple_of(3) {
+                return Err(format!(
+                    "count {} is not a multiple of 3, as TRIANGLES mode requires (the file is corrupt; re-run gltfpack)",
+                    c.count
+                ));
+            }
+            if c.filter != "NONE" {
+                return Err(format!(
+                    "filter {} is only allowed in ATTRIBUTES mode, not {} (the file is corrupt; re-run gltfpack)",
+                    c.filter, c.mode
+                ));
+            }
+        }
+        other => {
+            return Err(format!(
+                "mode {other} is not ATTRIBUTES, TRIANGLES or INDICES"
+            ));
+        }
+    }
     let size = (c.count as u64).saturating_mul(c.byte_stride as u64);
     if size > MAX_DECODED_BYTES {
         return Err(format!(
@@ -163,6 +215,11 @@ fn decode(source: &[u8], c: &Compressed) -> Result<Vec<u8>, String> {
             c.count, c.byte_stride
         ));
     }
+    Ok(())
+}
+
+fn decode(source: &[u8], c: &Compressed) -> Result<Vec<u8>, String> {
+    check_preconditions(c)?;
     let mut bytes = match c.mode.as_str() {
         "ATTRIBUTES" => vertex_strides!(source, c.count, c.byte_stride, [
             4 8 12 16 20 24 28 32 36 40 44 48 52 56 60 64 68 72 76 80 84 88 92 96 100 104 108
@@ -377,6 +434,13 @@ mod tests {
         assert!(decode(&[0; 16], &compressed("TRIANGLES", "NONE", 3, 3)).is_err());
         assert!(decode(&[0; 16], &compressed("LINES", "NONE", 4, 1)).is_err());
         assert!(decode(&[0; 16], &compressed("ATTRIBUTES", "NONE", 4, usize::MAX)).is_err());
+        assert!(decode(&[0; 16], &compressed("ATTRIBUTES", "NONE", 260, 1)).is_err());
+        // meshoptimizer asserts (aborts) on these; they must be refused before the call.
+        let err = decode(&[0xe1; 32], &compressed("TRIANGLES", "NONE", 2, 4)).unwrap_err();
+        assert!(err.contains("multiple of 3"), "{err}");
+        assert!(decode(&[0xe1; 32], &compressed("INDICES", "NONE", 8, 4)).is_err());
+        let err = decode(&[0xe1; 32], &compressed("TRIANGLES", "OCTAHEDRAL", 4, 3)).unwrap_err();
+        assert!(err.contains("only allowed in ATTRIBUTES"), "{err}");
         let mut bytes = vec![0; 12];
         assert!(apply_filter(&mut bytes, &compressed("ATTRIBUTES", "QUATERNION", 12, 1)).is_err());
     }

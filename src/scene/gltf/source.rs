@@ -92,6 +92,7 @@ pub fn parse(
     let mut root = document.into_json();
     check_extensions(&root, origin, warnings)?;
     super::validate::check_unwrapped_members(&root, origin)?;
+    super::validate::drop_unusable_channels(&mut root, origin, warnings);
     super::webp::use_webp_sources(&mut root);
     super::basisu::use_basisu_sources(&mut root);
     // glint decodes these itself; the `gltf` crate's validator would refuse them as

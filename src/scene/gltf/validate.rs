@@ -7,8 +7,8 @@ use super::source::Origin;
 use ::gltf::json::validation::Checked;
 
 /// Checks every camera, image and KHR_lights_punctual light for the members the crate's
-/// accessors assume: a camera's `type` object, an image's `uri` or `bufferView` (and its
-/// `mimeType` with a `bufferView`), a spot light's `spot` object.
+/// accessors assume: a camera's `type` object, exactly one of an image's `uri` and
+/// `bufferView` (and its `mimeType` with a `bufferView`), a spot light's `spot` object.
 pub fn check_unwrapped_members(
     root: &::gltf::json::Root,
     origin: Origin<'_>,
@@ -38,20 +38,7 @@ pub fn check_unwrapped_members(
         }
     }
     for (index, image) in root.images.iter().enumerate() {
-        match (&image.uri, &image.buffer_view) {
-            (None, None) => {
-                return Err(invalid(format!(
-                    "image {index} has neither a \"uri\" nor a \"bufferView\" (the file is corrupt; re-export it)"
-                )));
-            }
-            (None, Some(_)) if image.mime_type.is_none() => {
-                return Err(invalid(format!(
-                    "image {index} is stored in a bufferView but has no \"mimeType\" \
-                     (glTF requires one; re-export it or add \"mimeType\": \"image/png\")"
-                )));
-            }
-            _ => {}
-        }
+        check_image_source(index, image).map_err(invalid)?;
     }
     let lights = root
         .extensions
@@ -71,4 +58,66 @@ pub fn check_unwrapped_members(
         }
     }
     Ok(())
+}
+
+/// glTF's rules on where an image's bytes come from: exactly one of `uri` and `bufferView`,
+/// and a `mimeType` with a `bufferView`. The crate's `Image::source` unwraps on both.
+fn check_image_source(index: usize, image: &::gltf::json::Image) -> Result<(), String> {
+    match (&image.uri, &image.buffer_view) {
+        (None, None) => Err(format!(
+            "image {index} has neither a \"uri\" nor a \"bufferView\" (the file is corrupt; re-export it)"
+        )),
+        (Some(_), Some(_)) => Err(format!(
+            "image {index} has both a \"uri\" and a \"bufferView\", but glTF allows exactly one \
+             (the file is corrupt; remove one of them or re-export it)"
+        )),
+        (None, Some(_)) if image.mime_type.is_none() => Err(format!(
+            "image {index} is stored in a bufferView but has no \"mimeType\" \
+             (glTF requires one; re-export it or add \"mimeType\": \"image/png\")"
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Drops every animation channel the crate would panic on when it is sampled, with a warning
+/// naming the animation and the channel: a target `path` that is not one of glTF's four
+/// (`translation`, `rotation`, `scale`, `weights`; e.g. KHR_animation_pointer's `pointer`), or
+/// a target `node` past the file's nodes (the crate's schema check leaves channel targets
+/// out). The rest of the file, and its other channels, still load.
+pub fn drop_unusable_channels(
+    root: &mut ::gltf::json::Root,
+    origin: Origin<'_>,
+    warnings: &mut Vec<String>,
+) {
+    let nodes = root.nodes.len();
+    for (animation_index, animation) in root.animations.iter_mut().enumerate() {
+        let mut channel_index = 0;
+        animation.channels.retain(|channel| {
+            let problem = channel_problem(&channel.target, nodes);
+            if let Some(problem) = &problem {
+                warnings.push(format!(
+                    "{}: animation {animation_index} / channel {channel_index}: {problem}; \
+                     the channel is ignored",
+                    origin.file.display()
+                ));
+            }
+            channel_index += 1;
+            problem.is_none()
+        });
+    }
+}
+
+/// Why a channel's target cannot be sampled, if it cannot.
+fn channel_problem(target: &::gltf::json::animation::Target, nodes: usize) -> Option<String> {
+    if matches!(target.path, Checked::Invalid) {
+        return Some(
+            "its target path is not translation, rotation, scale or weights \
+             (glint animates only glTF's four node properties)"
+                .to_string(),
+        );
+    }
+    let node = target.node.value();
+    (node >= nodes).then(|| {
+        format!("it targets node {node}, but the file has only {nodes} nodes (the file is corrupt)")
+    })
 }
