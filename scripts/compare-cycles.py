@@ -27,7 +27,7 @@ Usage (from the repository root; the venv needs bpy, numpy, OpenEXR):
     /work/bpyvenv/bin/python scripts/compare-cycles.py table --out /tmp/speed > table.md
 
 `run` appends one CSV row per render to OUT/runs.csv and skips renders whose row exists, so it
-can be interrupted and resumed. `table` prints the Markdown tables of the README.
+can be interrupted and resumed. `table` prints the Markdown tables of docs/speed.md.
 """
 
 import argparse

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Measures glint against the Cycles goldens of ../shared/khronos (the README's fidelity table).
+"""Measures glint against the Cycles goldens of ../shared/khronos (the fidelity table in docs/materials.md).
 
     PY=target/fidelity-venv/bin/python   # python3 -m venv target/fidelity-venv
     $PY -m pip install numpy openexr      # once
     $PY scripts/fidelity.py [--spp 64] [--glint target/debug/glint] [MODEL ...]
 
-Each model is rendered as the README's table states:
+Each model is rendered as the table in docs/materials.md states:
     glint render MODEL --env ../shared/env/studio.exr --max-depth 8 --spp 64 --seed 1 \\
         --threads 2 --width W --height H -o OUT.exr
 with W×H the golden's size, then compared with `cycles.exr` on 8×8 block means:

@@ -8,7 +8,7 @@ node's own frame (the node's transform applies after the instance's), 1.5 model
 sizes apart (the size is the POSITION accessors' largest extent), each turned about Y by a
 different angle. The model's buffers and images are linked into OUT_DIR (their URIs stay
 relative), so OUT_DIR/instanced.gltf loads like the original. For `glint render` memory and
-time figures of many copies (README, "Instancing").
+time figures of many copies (docs/instancing.md).
 """
 import base64
 import json

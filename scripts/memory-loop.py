@@ -4,7 +4,7 @@
 Loads one scene and renders N small jobs (different seeds and cameras, every AOV, so that
 each render allocates and frees its film, AOVs and numpy arrays), printing the resident set
 size after 10 renders and after N. A leak of even a few KiB per render shows as growth
-between the two. A measurement, not a test: the README quotes its figure.
+between the two. A measurement, not a test: docs/instancing.md quotes its figure.
 
     target/pyvenv/bin/python scripts/memory-loop.py [--renders 1000] [SCENE]
 """

@@ -105,7 +105,7 @@ fn check_same_scene(
 
 /// Notes parts rendered by different ray-query kernels (another Embree version, instruction
 /// set or backend): the merged image is then not bit-identical to a render on one machine,
-/// though it agrees with one within rounding (see the README's "What is bit-identical").
+/// though it agrees with one within rounding (see docs/embree4.md, "What is bit-identical").
 fn note_kernels(
     paths: &[PathBuf],
     parts: &[(PartialImage, Option<SceneTag>)],

@@ -115,7 +115,8 @@ pub enum CameraChoice {
 pub enum LightSource {
     /// A light, as given.
     Light(Light),
-    /// A light spec (format in the README), parsed when the job runs.
+    /// A light spec (format in docs/render.md, "Scenes without a camera or lights"), parsed
+    /// when the job runs.
     Spec(String),
     /// A lights file, read when the job runs.
     File(PathBuf),

@@ -78,7 +78,7 @@ pub struct RenderArgs {
     /// Exposure in stops for PNG output (radiance × 2^EV).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
-    /// Add a light (repeatable; format in the README).
+    /// Add a light (repeatable; format in docs/render.md, "Scenes without a camera or lights").
     #[arg(long = "light", value_name = "SPEC")]
     pub light: Vec<String>,
     /// Add the lights of a lights file.

@@ -127,7 +127,7 @@ impl Mesh {
     }
 }
 
-/// A surface material, from glTF's metallic-roughness model. See the README for how it maps
+/// A surface material, from glTF's metallic-roughness model. See docs/materials.md for how it maps
 /// to glint's BRDFs: [`Material::diffuse_weight`] and [`Material::mirror_weight`].
 #[derive(Clone, Debug)]
 pub struct Material {

@@ -8,7 +8,7 @@ use super::source::{Origin, SUPPORTED_EXTENSIONS};
 /// than "re-export without it".
 fn advice(extension: &str) -> Option<&'static str> {
     Some(match extension {
-        // glint has no Draco decoder (see the README's glTF support section for why).
+        // glint has no Draco decoder (see docs/gltf.md for why).
         "KHR_draco_mesh_compression" => {
             "Draco-compressed geometry: decompress it first, e.g. `gltf-pipeline -i IN.glb -o OUT.glb` \
              (writes plain geometry), then, to keep the file small, `gltfpack -i OUT.glb -o SMALL.glb -c` \
