@@ -138,7 +138,7 @@ impl Drop for Device {
 fn shared_device(isa: EmbreeIsa) -> Result<Arc<Device>, AccelError> {
     use std::sync::Mutex;
     static DEVICES: Mutex<Vec<(String, Arc<Device>)>> = Mutex::new(Vec::new());
-    let config = kernels::device_config(isa, embree_major());
+    let config = kernels::device_config(isa);
     let mut devices = DEVICES
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner());

@@ -69,13 +69,12 @@ impl EmbreeIsa {
         }
     }
 
-    /// The value of Embree's `isa=` option for Embree `major` (3 or 4); `None` for
-    /// [`EmbreeIsa::Native`]. Embree silently falls back to SSE2 on a name it does not know,
-    /// so these are exactly its spellings: Embree up to 3.12 called AVX-512 `avx512skx`,
-    /// 3.13 and 4 call it `avx512` (3.13.5 takes `avx512skx` for SSE2, as its device
-    /// properties show: the build checks them, see [`EmbreeIsa::packet_width`]).
-    pub fn embree_name(self, major: i32) -> Option<&'static str> {
-        let _ = major;
+    /// The value of Embree's `isa=` option; `None` for [`EmbreeIsa::Native`]. Embree silently
+    /// falls back to SSE2 on a name it does not know, so these are exactly its spellings, the
+    /// same in Embree 3.13 and 4 (up to 3.12 AVX-512 was `avx512skx`, which 3.13.5 takes for
+    /// SSE2, as its device properties show: the build checks them, see
+    /// [`EmbreeIsa::packet_width`]).
+    pub fn embree_name(self) -> Option<&'static str> {
         Some(match self {
             EmbreeIsa::Native => return None,
             EmbreeIsa::Sse2 => "sse2",
@@ -220,15 +219,15 @@ pub fn resolve(requested: Option<EmbreeIsa>) -> Result<EmbreeIsa, String> {
     Ok(isa)
 }
 
-/// Embree's device configuration string for `isa` on Embree `major`: `GLINT_EMBREE_CONFIG`'s
-/// options, then `isa=…` when pinned.
-pub fn device_config(isa: EmbreeIsa, major: i32) -> String {
+/// Embree's device configuration string for `isa`: `GLINT_EMBREE_CONFIG`'s options, then
+/// `isa=…` when pinned.
+pub fn device_config(isa: EmbreeIsa) -> String {
     let extra = std::env::var(CONFIG_VARIABLE).unwrap_or_default();
     let mut parts: Vec<String> = Vec::new();
     if !extra.trim().is_empty() {
         parts.push(extra.trim().to_string());
     }
-    if let Some(name) = isa.embree_name(major) {
+    if let Some(name) = isa.embree_name() {
         parts.push(format!("isa={name}"));
     }
     parts.join(",")
@@ -253,9 +252,8 @@ mod tests {
             assert_eq!(isa.name().parse::<EmbreeIsa>(), Ok(isa));
         }
         assert!("avx3".parse::<EmbreeIsa>().is_err());
-        assert_eq!(EmbreeIsa::Avx512.embree_name(3), Some("avx512"));
-        assert_eq!(EmbreeIsa::Avx512.embree_name(4), Some("avx512"));
-        assert_eq!(EmbreeIsa::Native.embree_name(4), None);
+        assert_eq!(EmbreeIsa::Avx512.embree_name(), Some("avx512"));
+        assert_eq!(EmbreeIsa::Native.embree_name(), None);
     }
 
     #[test]

@@ -66,14 +66,27 @@ pub(crate) fn intersect(
     tfar: f32,
 ) -> Option<(f32, f32, f32)> {
     let s = solve(v0, v1, v2, origin, dir);
-    if s.den == 0.0 || s.u < 0.0 || s.v < 0.0 || s.u + s.v > s.abs_den {
-        return None;
+    s.accepts(tnear, tfar).then(|| s.divided())
+}
+
+impl Scaled {
+    /// Whether the solution lies inside the triangle and `tnear < t <= tfar`.
+    #[inline(always)]
+    fn accepts(&self, tnear: f32, tfar: f32) -> bool {
+        self.den != 0.0
+            && self.u >= 0.0
+            && self.v >= 0.0
+            && self.u + self.v <= self.abs_den
+            && self.abs_den * tnear < self.t
+            && self.t <= self.abs_den * tfar
     }
-    if !(s.abs_den * tnear < s.t && s.t <= s.abs_den * tfar) {
-        return None;
+
+    /// `(t, u, v)`, divided by `abs_den`.
+    #[inline(always)]
+    fn divided(&self) -> (f32, f32, f32) {
+        let inv = 1.0 / self.abs_den;
+        (self.t * inv, self.u * inv, self.v * inv)
     }
-    let inv = 1.0 / s.abs_den;
-    Some((s.t * inv, s.u * inv, s.v * inv))
 }
 
 /// The unnormalised winding normal `(v1 − v0) × (v2 − v0)`.
@@ -90,22 +103,21 @@ pub(crate) fn winding_normal(v0: Vec3A, v1: Vec3A, v2: Vec3A) -> Vec3 {
 /// (the caller keeps the other kernel's answer).
 #[inline]
 pub(crate) fn refine(v0: Vec3A, v1: Vec3A, v2: Vec3A, ray: &Ray) -> Option<(f32, f32, f32)> {
-    let (origin, dir) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir));
-    if let Some(hit) = intersect(v0, v1, v2, origin, dir, ray.tnear, ray.tfar) {
-        return Some(hit);
+    let s = solve(v0, v1, v2, Vec3A::from(ray.origin), Vec3A::from(ray.dir));
+    if s.accepts(ray.tnear, ray.tfar) {
+        return Some(s.divided());
     }
-    let s = solve(v0, v1, v2, origin, dir);
     if s.den == 0.0 || !s.abs_den.is_finite() {
         return None;
     }
-    let inv = 1.0 / s.abs_den;
-    let (mut u, mut v) = ((s.u * inv).max(0.0), (s.v * inv).max(0.0));
+    let (t, u, v) = s.divided();
+    let (mut u, mut v) = (u.max(0.0), v.max(0.0));
     let sum = u + v;
     if sum > 1.0 {
         u /= sum;
         v /= sum;
     }
-    let t = (s.t * inv).max(ray.tnear).min(ray.tfar);
+    let t = t.max(ray.tnear).min(ray.tfar);
     (t.is_finite() && u.is_finite() && v.is_finite()).then_some((t, u, v))
 }
 
