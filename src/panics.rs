@@ -77,7 +77,10 @@ fn quiet_hook(info: &PanicHookInfo<'_>) {
             .map(|l| format!("{}:{}:{}", l.file(), l.line(), l.column())),
     };
     if backtrace_wanted() {
-        eprintln!(
+        // Not `eprintln!`, which panics (inside the hook: an abort) when stderr is closed.
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr(),
             "glint: panic: {panic}\n{}",
             std::backtrace::Backtrace::force_capture()
         );

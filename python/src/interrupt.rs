@@ -18,9 +18,10 @@ use std::time::Duration;
 const SIGNAL_CHECK: Duration = Duration::from_millis(50);
 
 /// Runs `work` with the GIL released; `work` receives the cancellation flag to hand to the
-/// renderer; `doing` names the work for a panic's report ("rendering scene.gltf"). Returns its result, or the signal handler's exception if a signal arrived (the
-/// work's own result is then dropped), or a `GlintError` if the work panicked (one line: the
-/// panic's message, see [`glint::panics`]; never pyo3's `PanicException`).
+/// renderer; `doing` names the work for a panic's report ("rendering scene.gltf"). Returns
+/// its result, or the signal handler's exception if a signal arrived (the work's own result is
+/// then dropped), or a `GlintError` if the work panicked (one line: the panic's message, see
+/// [`glint::panics`]; never pyo3's `PanicException`).
 pub fn run_detached<T, F>(py: Python<'_>, doing: &str, work: F) -> PyResult<T>
 where
     T: Send,
