@@ -15,6 +15,7 @@ pub mod geometry;
 pub mod light;
 pub mod material;
 pub mod output;
+pub mod panics;
 pub mod procedural;
 pub mod render;
 pub mod sampling;

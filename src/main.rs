@@ -1,6 +1,11 @@
 //! The `glint` command line: parses arguments, calls the library, reports.
+//!
+//! Exit status: 0 on success; 1 for an error the user can fix (a bad file, option or job; a
+//! batch with a failed job); [`INTERNAL_ERROR_EXIT`] (70) for an internal error, a panic
+//! caught at the subcommand's boundary and reported in one line (see [`glint::panics`]).
 
 use clap::{Parser, Subcommand};
+use glint::panics::{self, INTERNAL_ERROR_EXIT};
 use std::process::ExitCode;
 
 /// glint: a native CPU renderer for glTF 2.0 scenes.
@@ -32,6 +37,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    panics::install_quiet_hook();
     let cli = Cli::parse();
     if let Some(isa) = cli.embree_isa
         && let Err(why) = glint::accel::kernels::set_process_isa(isa)
@@ -39,18 +45,51 @@ fn main() -> ExitCode {
         eprintln!("glint: --embree-isa: {why}");
         return ExitCode::FAILURE;
     }
-    let result = match cli.command {
-        Command::Render(args) => glint::cli::render::run(args),
-        Command::Bench(cmd) => glint::cli::bench::run(cmd),
-        Command::Batch(args) => glint::cli::batch::run(args),
-        Command::Merge(args) => glint::cli::merge::run(args),
-        Command::Converge(args) => glint::cli::converge::run(args),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(err) => {
+    let doing = cli.command.doing();
+    match panics::catch(|| cli.command.run()) {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(err)) => {
             eprintln!("glint: {err}");
             ExitCode::FAILURE
+        }
+        Err(panic) => {
+            eprintln!("glint: {}", panic.report(&doing));
+            ExitCode::from(INTERNAL_ERROR_EXIT)
+        }
+    }
+}
+
+impl Command {
+    /// Runs the subcommand.
+    fn run(self) -> Result<(), glint::cli::CliError> {
+        match self {
+            Command::Render(args) => glint::cli::render::run(args),
+            Command::Bench(cmd) => glint::cli::bench::run(cmd),
+            Command::Batch(args) => glint::cli::batch::run(args),
+            Command::Merge(args) => glint::cli::merge::run(args),
+            Command::Converge(args) => glint::cli::converge::run(args),
+        }
+    }
+
+    /// What the subcommand does, naming its input file where it has one, for the line that
+    /// reports an internal error: "rendering scene.gltf".
+    fn doing(&self) -> String {
+        let scene = |path: &Option<std::path::PathBuf>| {
+            path.as_ref()
+                .map_or_else(|| "the demo scene".to_string(), |p| p.display().to_string())
+        };
+        match self {
+            Command::Render(args) => format!("rendering {}", scene(&args.scene)),
+            Command::Bench(_) => "benchmarking".to_string(),
+            Command::Batch(args) => format!("running the batch {}", args.jobs.display()),
+            Command::Merge(args) => {
+                let parts: Vec<String> =
+                    args.parts.iter().map(|p| p.display().to_string()).collect();
+                format!("merging {}", parts.join(", "))
+            }
+            Command::Converge(args) => {
+                format!("measuring the convergence of {}", scene(&args.scene))
+            }
         }
     }
 }

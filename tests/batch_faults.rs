@@ -575,6 +575,70 @@ fn merge_refuses_parts_of_different_scenes_naming_both() {
     assert!(!dir.path().join("x.exr").exists());
 }
 
+/// A `.gltf` whose external texture changes between two parts of its render: the parts'
+/// fingerprints differ (they hash every file the scene reads), so `glint merge` refuses them,
+/// naming both; parts rendered before the change still merge.
+#[test]
+fn merge_refuses_parts_rendered_before_and_after_a_texture_changed() {
+    use base64::Engine as _;
+    let dir = tempfile::tempdir().unwrap();
+    // checker-plane.gltf with its embedded texture moved out to checker.png.
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let text = std::fs::read_to_string(scenes.join("checker-plane.gltf")).unwrap();
+    let mut gltf: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let uri = gltf["images"][0]["uri"].as_str().unwrap().to_string();
+    let (_, payload) = uri.split_once(";base64,").unwrap();
+    let png = base64::engine::general_purpose::STANDARD
+        .decode(payload)
+        .unwrap();
+    std::fs::write(dir.path().join("checker.png"), png).unwrap();
+    gltf["images"][0]["uri"] = "checker.png".into();
+    std::fs::write(dir.path().join("plane.gltf"), gltf.to_string()).unwrap();
+    let part = |shard: &str, out: &str| {
+        let result = glint(
+            &[
+                "render",
+                "plane.gltf",
+                "--width",
+                "8",
+                "--height",
+                "6",
+                "--spp",
+                "2",
+                "--shard",
+                shard,
+                "-o",
+                out,
+                "-q",
+            ],
+            dir.path(),
+        );
+        assert!(result.status.success(), "{}", stderr(&result));
+    };
+    part("0/2", "before0.exr");
+    part("1/2", "before1.exr");
+    // Another valid texture under the same name.
+    image::RgbImage::from_pixel(4, 4, image::Rgb([200, 30, 30]))
+        .save(dir.path().join("checker.png"))
+        .unwrap();
+    part("1/2", "after1.exr");
+    let good = glint(
+        &["merge", "before0.exr", "before1.exr", "-o", "m.exr", "-q"],
+        dir.path(),
+    );
+    assert!(good.status.success(), "{}", stderr(&good));
+    let bad = glint(
+        &["merge", "before0.exr", "after1.exr", "-o", "x.exr", "-q"],
+        dir.path(),
+    );
+    assert!(!bad.status.success());
+    let said = stderr(&bad);
+    for name in ["before0.exr", "after1.exr", "plane.gltf", "fingerprint"] {
+        assert!(said.contains(name), "{name} missing from: {said}");
+    }
+    assert!(!dir.path().join("x.exr").exists());
+}
+
 #[test]
 fn a_frame_sweep_renders_an_animation_at_each_frames_time() {
     let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/khronos");

@@ -79,7 +79,7 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/embree/exr", 0x060188e3de609b85), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
     ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/embree/exr", 0x4021c44f8f538f40), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("demo/embree/partial", 0xa461146068e84a3b), // re-recorded: the part now records glint.kernels (hashed apart); pixels unchanged
+    ("demo/embree/partial", 0x2df9c8dff76ef0c9), // re-recorded (issue 26): fingerprint format 2 (external files hashed); pixels unchanged
     ("demo/embree/progressive", 0x02801e9f46e8b830), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
     ("demo/embree/photometric", 0x006d2b221b0908f8), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
     ("batch/embree", 0xcc1afacaeea17d0d), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
@@ -95,9 +95,9 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/bvh/exr", 0x060188e3de609b85), // re-recorded: direct light from emissive surfaces (issue 12)
     ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
     ("2CylinderEngine/bvh/exr", 0x4021c44f8f538f40), // re-recorded: as for embree
-    ("demo/bvh/partial", 0xa461146068e84a3b),        // re-recorded: the new demo scene (issue 14)
-    ("demo/bvh/progressive", 0x02801e9f46e8b830),    // re-recorded: the new demo scene (issue 14)
-    ("demo/bvh/photometric", 0x006d2b221b0908f8),    // re-recorded: the new demo scene (issue 14)
+    ("demo/bvh/partial", 0x2df9c8dff76ef0c9), // re-recorded (issue 26): fingerprint format 2 (external files hashed); pixels unchanged
+    ("demo/bvh/progressive", 0x02801e9f46e8b830), // re-recorded: the new demo scene (issue 14)
+    ("demo/bvh/photometric", 0x006d2b221b0908f8), // re-recorded: the new demo scene (issue 14)
     ("batch/bvh", 0xcc1afacaeea17d0d),
 ];
 

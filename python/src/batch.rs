@@ -87,7 +87,7 @@ pub fn render_batch<'py>(
     }
     // One pool for all, set up for Embree if any job uses it.
     let pool = glint::render::thread_pool(threads, backend).map_err(glint_error)?;
-    let results = interrupt::run_detached(py, |cancel| {
+    let results = interrupt::run_detached(py, "rendering a batch", |cancel| {
         pool.install(|| {
             work.par_iter()
                 .map(|(job, slot)| run_job(job, &scenes[*slot], &pool, cancel))

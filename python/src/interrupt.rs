@@ -18,9 +18,11 @@ use std::time::Duration;
 const SIGNAL_CHECK: Duration = Duration::from_millis(50);
 
 /// Runs `work` with the GIL released; `work` receives the cancellation flag to hand to the
-/// renderer. Returns its result, or the signal handler's exception if a signal arrived (the
-/// work's own result is then dropped), or a `GlintError` if the work panicked.
-pub fn run_detached<T, F>(py: Python<'_>, work: F) -> PyResult<T>
+/// renderer; `doing` names the work for a panic's report ("rendering scene.gltf"). Returns
+/// its result, or the signal handler's exception if a signal arrived (the work's own result is
+/// then dropped), or a `GlintError` if the work panicked (one line: the panic's message, see
+/// [`glint::panics`]; never pyo3's `PanicException`).
+pub fn run_detached<T, F>(py: Python<'_>, doing: &str, work: F) -> PyResult<T>
 where
     T: Send,
     F: FnOnce(&AtomicBool) -> T + Send,
@@ -32,8 +34,7 @@ where
             let cancel = &cancel;
             scope.spawn(move || {
                 // Caught here: a panicking scoped thread would re-panic in `scope` itself.
-                let result =
-                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(cancel)));
+                let result = glint::panics::catch(|| work(cancel));
                 // The receiver only goes away once this thread is done.
                 let _ = done.send(result);
             });
@@ -44,9 +45,7 @@ where
                         return match (interrupted, result) {
                             (Some(err), _) => Err(err),
                             (None, Ok(result)) => Ok(result),
-                            (None, Err(_)) => Err(crate::glint_error(
-                                "the render panicked (a bug in glint: please report it)",
-                            )),
+                            (None, Err(panic)) => Err(crate::glint_error(panic.report(doing))),
                         };
                     }
                     Err(mpsc::RecvTimeoutError::Timeout) => {

@@ -35,6 +35,9 @@ pub(crate) fn glint_error(error: impl std::fmt::Display) -> PyErr {
 /// The module `glint._glint`.
 #[pymodule]
 fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // This extension links its own copy of Rust's standard library, so the hook is glint's
+    // alone: a panic inside glint prints nothing and becomes one GlintError line.
+    glint::panics::install_quiet_hook();
     m.add("GlintError", m.py().get_type::<GlintError>())?;
     m.add("NO_ID", glint::render::ids::NO_ID)?;
     m.add("COVERAGE_LAYERS", glint::render::ids::COVERAGE_LAYERS)?;

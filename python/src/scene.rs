@@ -119,7 +119,8 @@ pub fn load(
         asset_root,
         max_texture_pixels,
     };
-    let prepared = interrupt::run_detached(py, |_| {
+    let doing = format!("loading {}", source.label());
+    let prepared = interrupt::run_detached(py, &doing, |_| {
         PreparedScene::load(&source, &selection, &options, backend)
     })?
     .map_err(glint_error)?;
@@ -227,7 +228,9 @@ impl Scene {
         let job = options::job_from_kwargs(kwargs, self.source.clone(), self.backend, &[])?;
         let pool = self.pool_for(job.settings.threads)?;
         let prepared = &*self.prepared;
-        let images = interrupt::run_detached(py, |cancel| run_job(&job, prepared, &pool, cancel))??;
+        let doing = format!("rendering {}", self.source.label());
+        let images =
+            interrupt::run_detached(py, &doing, |cancel| run_job(&job, prepared, &pool, cancel))??;
         arrays::images_to_dict(py, &images)
     }
 }

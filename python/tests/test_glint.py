@@ -196,6 +196,22 @@ def test_bad_camera_index_raises_with_glints_message(quads_path):
     assert "two_quads.gltf" in str(err.value)
 
 
+def test_a_panic_inside_a_render_raises_glint_error_in_one_line(quads_path, monkeypatch, capfd):
+    """A bug in glint (a panic forced by the test-only GLINT_TEST_PANIC, which the dev-profile
+    build of scripts/check-python.sh reads) raises GlintError naming the scene, not pyo3's
+    PanicException, and prints none of Rust's panic text."""
+    scene = glint.load(quads_path)
+    monkeypatch.setenv("GLINT_TEST_PANIC", "render")
+    with pytest.raises(glint.GlintError, match="internal error while rendering") as err:
+        scene.render(width=4, height=2, spp=1)
+    message = str(err.value)
+    assert "two_quads.gltf" in message and "please report" in message
+    assert "\n" not in message
+    assert "panicked at" not in capfd.readouterr().err
+    monkeypatch.delenv("GLINT_TEST_PANIC")
+    assert scene.render(width=4, height=2, spp=1)["radiance"].shape[:2] == (2, 4)
+
+
 def test_bad_arguments_raise_python_errors():
     scene = glint.load()
     with pytest.raises(ValueError, match="unknown AOV"):

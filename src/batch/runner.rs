@@ -25,7 +25,9 @@
 //! the runner removes the temporary files that killed runs left for the job's output.
 //!
 //! Isolation: a failing job (bad scene, bad path, even a panic in its render or in its
-//! scene's load and preparation) is reported and the others go on.
+//! scene's load and preparation) is reported and the others go on. A panic is caught by
+//! [`panics::catch`] and reported as one "internal error while …" line with the message and
+//! location the quiet hook recorded.
 
 use super::claim;
 use super::jobs::Job;
@@ -33,12 +35,12 @@ use super::paths;
 use super::report::{BatchReport, JobReport, JobStatus};
 use super::shard::Shard;
 use crate::accel::BackendKind;
+use crate::panics;
 use crate::render::job::{DEFAULT_ASPECT, DEFAULT_WIDTH, SceneSource};
 use crate::render::{self, PreparedScene, RenderError};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Instant;
@@ -173,12 +175,11 @@ pub fn run_with_loader(
         let load_start = Instant::now();
         let first = group[0];
         let prepared = pool.install(|| {
-            catch_unwind(AssertUnwindSafe(|| load(first))).unwrap_or_else(|_| {
-                Err(format!(
-                    "{}: loading or preparing the scene panicked (a bug in glint: please \
-                     report it with the file)",
+            panics::catch(|| load(first)).unwrap_or_else(|panic| {
+                Err(panic.report(&format!(
+                    "loading or preparing the scene {}",
                     first.scene().display()
-                ))
+                )))
             })
         });
         load_seconds += load_start.elapsed().as_secs_f64();
@@ -275,8 +276,13 @@ fn claim_and_render(
     }
     let job_start = Instant::now();
     let tick = |done: usize, total: usize| progress.tick(job, done, total);
-    let result = catch_unwind(AssertUnwindSafe(|| render_job(job, prepared, pool, &tick)))
-        .unwrap_or_else(|_| Err("the render panicked (a bug in glint: please report it)".into()));
+    let result = panics::catch(|| render_job(job, prepared, pool, &tick)).unwrap_or_else(|panic| {
+        Err(panic.report(&format!(
+            "rendering {} to {}",
+            job.scene().display(),
+            job.output().display()
+        )))
+    });
     held.release();
     let seconds = job_start.elapsed().as_secs_f64();
     progress.finish_job(job, result.as_ref().map(|_| ()).map_err(|e| e.as_str()));
@@ -555,7 +561,9 @@ mod tests {
         );
         let error = report.jobs[0].error.as_deref().unwrap_or_default();
         assert!(
-            error.contains("boom.glb") && error.contains("panicked"),
+            error.contains("boom.glb")
+                && error.contains("internal error while loading")
+                && error.contains("injected load panic"),
             "{error}"
         );
         assert!(dir.path().join("b.png").is_file());

@@ -1,18 +1,24 @@
 //! Scene fingerprints: what a partial EXR was rendered from, so that `glint merge` refuses
-//! to add parts of different renders (another scene file, another frame, another camera)
-//! whose spp and seed happen to match.
+//! to add parts of different renders (another scene file, another frame, another camera,
+//! another texture) whose spp and seed happen to match.
 //!
 //! The fingerprint is the 128-bit XXH3 hash (a fixed, specified algorithm, so it is the same
 //! on every machine and glint build) of, in order: a format tag; the scene file's bytes (the
-//! `.gltf` or `.glb` itself, not the buffers or images a `.gltf` refers to); the scene index
-//! (`--scene`) and animation time (`--time`); the image size; and the camera actually
-//! rendered through (its world-from-camera matrix and projection, as f32 bits). Parts whose
-//! fingerprints differ are from different renders; equal fingerprints with different
-//! external `.bin` or texture files are not detected (re-export as `.glb` to include them).
+//! `.gltf` or `.glb` itself); each external file the scene reads, in the order of its
+//! `buffers` then its `images` (the URI, then the file's length and bytes; the file resolved
+//! as the loader resolves it, [`crate::scene::gltf::external_path`]; data URIs and GLB chunks
+//! are in the scene file's bytes already); the scene index (`--scene`) and animation time
+//! (`--time`); the image size; and the camera actually rendered through (its
+//! world-from-camera matrix and projection, as f32 bits). Parts whose fingerprints differ are
+//! from different renders. Every file is read streamed, 1 MiB at a time.
+//!
+//! Not covered: an environment map or light file given to the render (`--environment`,
+//! `--lights`), which are not part of the scene.
 
 use crate::render::job::{Job, SceneSource};
 use crate::scene::{Camera, Projection};
 use std::io::Read;
+use std::path::{Path, PathBuf};
 use xxhash_rust::xxh3::Xxh3;
 
 /// The scene a partial render comes from: its name (for messages) and its fingerprint.
@@ -29,27 +35,29 @@ pub struct SceneTag {
 }
 
 /// Changes whenever the hashed inputs change meaning.
-const FORMAT: &[u8] = b"glint scene fingerprint 1\0";
+const FORMAT: &[u8] = b"glint scene fingerprint 2\0";
+
+/// The bytes read from a file at a time while hashing it.
+const CHUNK_BYTES: usize = 1 << 20;
+
+/// The GLB magic, "glTF".
+const GLB_MAGIC: &[u8; 4] = b"glTF";
+
+/// The type of a GLB chunk holding JSON, "JSON" as a little-endian u32.
+const GLB_JSON_CHUNK: u32 = 0x4E4F_534A;
+
+/// GLB header (magic, version, length) plus the first chunk's header (length, type), bytes.
+const GLB_HEADERS_BYTES: usize = 20;
 
 impl SceneTag {
     /// The tag of `job` rendered through `camera` at `width`×`height`. Reads the scene file
-    /// again (streamed, 1 MiB at a time); the error names it.
+    /// and every external file it names again (streamed); an error names the file.
     pub fn of(job: &Job, camera: &Camera, width: u32, height: u32) -> std::io::Result<Self> {
         let mut hash = Xxh3::new();
         hash.update(FORMAT);
         match &job.scene {
             SceneSource::Demo => hash.update(b"demo\0"),
-            SceneSource::File(path) => {
-                let mut file = std::fs::File::open(path).map_err(|e| named(path, e))?;
-                let mut buffer = vec![0u8; 1 << 20];
-                loop {
-                    let n = file.read(&mut buffer).map_err(|e| named(path, e))?;
-                    if n == 0 {
-                        break;
-                    }
-                    hash.update(&buffer[..n]);
-                }
-            }
+            SceneSource::File(path) => hash_scene_files(&mut hash, path)?,
         }
         let selection = &job.selection;
         hash.update(&selection.scene.map_or(u64::MAX, |s| s as u64).to_le_bytes());
@@ -76,13 +84,122 @@ impl SceneTag {
     }
 }
 
-fn named(path: &std::path::Path, e: std::io::Error) -> std::io::Error {
+/// Hashes the scene file at `path`, then each external file it names ([`external_files`]),
+/// each preceded by its URI.
+fn hash_scene_files(hash: &mut Xxh3, path: &Path) -> std::io::Result<()> {
+    hash_file(hash, path).map_err(|e| unreadable(&format!("the scene {}", path.display()), e))?;
+    for file in external_files(path)? {
+        hash.update(file.uri.as_bytes());
+        hash.update(b"\0");
+        hash_file(hash, &file.path).map_err(|e| {
+            unreadable(
+                &format!(
+                    "{} (\"{}\", {} of the scene {})",
+                    file.path.display(),
+                    file.uri,
+                    file.what,
+                    path.display()
+                ),
+                e,
+            )
+        })?;
+    }
+    Ok(())
+}
+
+/// An external file a scene reads.
+struct ExternalFile {
+    /// "buffer 0", "image 3".
+    what: String,
+    /// The URI as the scene spells it.
+    uri: String,
+    /// Where the loader reads it.
+    path: PathBuf,
+}
+
+/// The external files the scene at `path` names in its `buffers` and `images`, in that
+/// order. A JSON that does not parse names none (such a scene does not load, so no part of it
+/// is ever rendered).
+fn external_files(path: &Path) -> std::io::Result<Vec<ExternalFile>> {
+    let json =
+        scene_json(path).map_err(|e| unreadable(&format!("the scene {}", path.display()), e))?;
+    let Ok(root) = serde_json::from_slice::<serde_json::Value>(&json) else {
+        return Ok(Vec::new());
+    };
+    let base_dir = crate::scene::gltf::base_dir(path);
+    let mut files = Vec::new();
+    for (key, noun) in [("buffers", "buffer"), ("images", "image")] {
+        let items = root.get(key).and_then(|v| v.as_array());
+        for (index, item) in items.into_iter().flatten().enumerate() {
+            let Some(uri) = item.get("uri").and_then(|u| u.as_str()) else {
+                continue;
+            };
+            if let Some(path) = crate::scene::gltf::external_path(uri, base_dir) {
+                files.push(ExternalFile {
+                    what: format!("{noun} {index}"),
+                    uri: uri.to_string(),
+                    path,
+                });
+            }
+        }
+    }
+    Ok(files)
+}
+
+/// The JSON of the scene file at `path`: the whole file, or a GLB's JSON chunk (empty when the
+/// GLB's first chunk is not JSON or is cut short).
+fn scene_json(path: &Path) -> std::io::Result<Vec<u8>> {
+    let mut file = std::fs::File::open(path)?;
+    let mut headers = Vec::with_capacity(GLB_HEADERS_BYTES);
+    (&mut file)
+        .take(GLB_HEADERS_BYTES as u64)
+        .read_to_end(&mut headers)?;
+    if !headers.starts_with(GLB_MAGIC) {
+        let mut json = headers;
+        file.read_to_end(&mut json)?;
+        return Ok(json);
+    }
+    let word = |at: usize| {
+        headers
+            .get(at..at + 4)
+            .and_then(|b| b.try_into().ok())
+            .map(u32::from_le_bytes)
+    };
+    let (Some(length), Some(GLB_JSON_CHUNK)) = (word(12), word(16)) else {
+        return Ok(Vec::new());
+    };
+    let mut json = Vec::new();
+    // `take` bounds the read by the chunk's declared length, the file's length bounds memory.
+    file.take(u64::from(length)).read_to_end(&mut json)?;
+    Ok(json)
+}
+
+/// Hashes the length and bytes of the file at `path`, 1 MiB at a time.
+fn hash_file(hash: &mut Xxh3, path: &Path) -> std::io::Result<()> {
+    // Checked before opening: opening a FIFO would block until a writer appears.
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::other("it is not a regular file"));
+    }
+    let mut file = std::fs::File::open(path)?;
+    let mut buffer = vec![0u8; CHUNK_BYTES];
+    let mut length: u64 = 0;
+    loop {
+        let n = file.read(&mut buffer)?;
+        if n == 0 {
+            break;
+        }
+        hash.update(&buffer[..n]);
+        length += n as u64;
+    }
+    hash.update(&length.to_le_bytes());
+    Ok(())
+}
+
+/// An I/O error while fingerprinting, naming `what` was being read.
+fn unreadable(what: &str, e: std::io::Error) -> std::io::Error {
     std::io::Error::new(
         e.kind(),
-        format!(
-            "cannot read the scene {} to fingerprint it: {e}",
-            path.display()
-        ),
+        format!("cannot read {what} to fingerprint it: {e}"),
     )
 }
 
@@ -128,5 +245,40 @@ mod tests {
         }
         let missing = SceneTag::of(&job(&dir.path().join("gone.glb"), None), &camera(0.0), 1, 1);
         assert!(missing.unwrap_err().to_string().contains("gone.glb"));
+    }
+
+    #[test]
+    fn an_external_buffer_or_image_changes_the_fingerprint() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("s.gltf");
+        std::fs::write(
+            &scene,
+            br#"{"asset":{"version":"2.0"},"buffers":[{"uri":"a%20b.bin","byteLength":4},
+                {"uri":"data:application/octet-stream;base64,AAAA","byteLength":3}],
+                "images":[{"uri":"sub/t.png"}]}"#,
+        )
+        .unwrap();
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let job = Job {
+            scene: SceneSource::File(scene.clone()),
+            ..Job::default()
+        };
+        let tag = || SceneTag::of(&job, &camera(0.0), 4, 4).map(|t| t.fingerprint);
+        std::fs::write(dir.path().join("a b.bin"), [1u8, 2, 3, 4]).unwrap();
+        let missing = tag().unwrap_err().to_string();
+        assert!(
+            missing.contains("sub/t.png")
+                && missing.contains("image 0")
+                && missing.contains("s.gltf"),
+            "{missing}"
+        );
+        std::fs::write(dir.path().join("sub/t.png"), b"png one").unwrap();
+        let first = tag().unwrap();
+        assert_eq!(first, tag().unwrap());
+        std::fs::write(dir.path().join("sub/t.png"), b"png two").unwrap();
+        let second = tag().unwrap();
+        assert_ne!(first, second, "the image changed");
+        std::fs::write(dir.path().join("a b.bin"), [1u8, 2, 3, 5]).unwrap();
+        assert_ne!(second, tag().unwrap(), "the buffer changed");
     }
 }

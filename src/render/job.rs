@@ -673,6 +673,8 @@ fn run_keeping(
         area_lights: Some(&prepared.area_lights),
         cancel,
     };
+    // Test-only (debug builds): a forced panic where the render starts, for tests/panics.rs.
+    crate::panics::test_panic_point("render", &prepared.label);
     let output = job.output.as_ref();
     if let Some(samples) = job.partial_samples()? {
         let (part, stats) =

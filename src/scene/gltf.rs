@@ -89,7 +89,15 @@ pub use error::LoadError;
 pub use limits::{DEFAULT_MAX_TEXTURE_PIXELS, LoadOptions, MAX_COORDINATE, MAX_EMISSION};
 pub use materials::uv_transform;
 pub use primitives::{assemble_triangles, normal_transform};
-pub use source::SUPPORTED_EXTENSIONS;
+pub use source::{SUPPORTED_EXTENSIONS, external_path};
+
+/// The folder the relative URIs of the scene file at `path` resolve against: its own folder.
+pub fn base_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
 
 use super::{Material, Scene};
 use glam::Mat4;
@@ -167,15 +175,11 @@ pub fn load_full(
             }
         },
     })?;
-    let base_dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
     load_bytes(
         &bytes,
         Origin {
             file: path,
-            base_dir: Some(base_dir),
+            base_dir: Some(base_dir(path)),
             options,
         },
         selection,

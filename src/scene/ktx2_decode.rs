@@ -52,9 +52,12 @@ pub enum Ktx2Error {
         /// The budget.
         max: u64,
     },
-    /// The transcoder panicked on the payload (a corrupt file it does not check for).
-    #[error("the Basis Universal transcoder failed on a corrupt payload; re-export the texture")]
-    TranscoderPanicked,
+    /// The transcoder panicked on the payload (a corrupt file it does not check for); the
+    /// caught panic's message and location.
+    #[error(
+        "the Basis Universal transcoder failed on a corrupt payload ({0}); re-export the texture"
+    )]
+    TranscoderPanicked(crate::panics::Panic),
     /// The payload does not transcode (corrupt or truncated level data or codebooks).
     #[error("the Basis Universal payload does not transcode ({0}); re-export the texture")]
     Transcode(String),
@@ -316,7 +319,7 @@ pub fn decode_ktx2(
     // inputs it is known to panic on, and any other panic it raises on a corrupt payload is
     // turned into an error here rather than taking the process down (it only reads `bytes`
     // and returns a new buffer, so nothing is left half-updated).
-    let transcoded = std::panic::catch_unwind(|| {
+    let transcoded = crate::panics::catch(|| {
         let transcoder =
             ::basisu::Transcoder::new(bytes).map_err(|err| Ktx2Error::Transcode(describe(&err)))?;
         if transcoder.source_format() != expected {
@@ -334,7 +337,7 @@ pub fn decode_ktx2(
             )
             .map_err(|err| Ktx2Error::Transcode(describe(&err)))
     });
-    let rgba = transcoded.map_err(|_| Ktx2Error::TranscoderPanicked)??;
+    let rgba = transcoded.map_err(Ktx2Error::TranscoderPanicked)??;
     // `pixels` is at most `max_pixels`, which the caller sized to fit memory.
     let texel_count = usize::try_from(pixels).unwrap_or(usize::MAX);
     if rgba.len() != texel_count.saturating_mul(4) {

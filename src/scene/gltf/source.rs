@@ -293,8 +293,27 @@ fn load_buffers(
     Ok(buffers)
 }
 
+/// The file [`read_uri`] reads for `uri` of a scene whose relative URIs resolve against
+/// `base_dir`: the percent-decoded relative path joined to the folder. `None` where
+/// `read_uri` reads no file: a data URI (its bytes are in the JSON), another URI scheme, an
+/// undecodable or absolute path (all three refused at load). The asset root is not checked
+/// here: a scene that loaded passed it.
+pub fn external_path(uri: &str, base_dir: &Path) -> Option<PathBuf> {
+    if uri.starts_with("data:")
+        || uri
+            .split_once(':')
+            .is_some_and(|(scheme, _)| !scheme.contains('/'))
+    {
+        return None;
+    }
+    let relative = urlencoding::decode(uri).ok()?;
+    let relative = Path::new(relative.as_ref());
+    (!relative.is_absolute()).then(|| base_dir.join(relative))
+}
+
 /// The bytes a URI names: decoded from a base64 data URI, or read from a file relative to
-/// the scene's folder (percent-escapes such as `%20` decoded first).
+/// the scene's folder (percent-escapes such as `%20` decoded first; [`external_path`] names
+/// the same file).
 pub fn read_uri<'u>(
     uri: &'u str,
     what: &str,
