@@ -13,6 +13,7 @@ use super::sweep;
 use crate::render::options::RenderArgs;
 use clap::{CommandFactory, Parser};
 use glam::Vec3;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};
 
@@ -197,6 +198,7 @@ pub fn parse_file(text: &str, path: &Path) -> Result<JobFile, JobFileError> {
         path,
         folder,
         defaults: &defaults,
+        checked: Default::default(),
     };
     let job_tables = tables("job")?;
     let sweeps = tables("sweep")?
@@ -360,6 +362,8 @@ struct Context<'a> {
     path: &'a Path,
     folder: &'a Path,
     defaults: &'a Table,
+    /// The arguments of each (key, value text) already checked, for the next job.
+    checked: std::cell::RefCell<HashMap<(String, String), Vec<String>>>,
 }
 
 impl Context<'_> {
@@ -410,10 +414,22 @@ impl Context<'_> {
                     ));
                 }
                 _ => {
-                    let single = option_args(key, value).map_err(|m| key_error(key, m))?;
-                    // Parsed alone first, so that a bad value is blamed on its key.
-                    JobCli::try_parse_from(&single)
-                        .map_err(|e| key_error(key, clap_message(&e)))?;
+                    // A sweep's jobs share most keys: each (key, value) is turned into
+                    // arguments and checked once (clap builds its whole command per parse).
+                    let memo_key = (key.clone(), value.to_string());
+                    let cached = self.checked.borrow().get(&memo_key).cloned();
+                    let single = match cached {
+                        Some(single) => single,
+                        None => {
+                            let single =
+                                option_args(key, value).map_err(|m| key_error(key, m))?;
+                            // Parsed alone first, so that a bad value is blamed on its key.
+                            JobCli::try_parse_from(&single)
+                                .map_err(|e| key_error(key, clap_message(&e)))?;
+                            self.checked.borrow_mut().insert(memo_key, single.clone());
+                            single
+                        }
+                    };
                     argv.extend(single);
                 }
             }

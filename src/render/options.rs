@@ -172,6 +172,7 @@ impl RenderArgs {
         crate::scene::gltf::LoadOptions {
             asset_root: self.asset_root.clone(),
             max_texture_pixels: self.max_texture_pixels,
+            ..Default::default()
         }
     }
 

@@ -86,10 +86,13 @@ mod validate;
 mod webp;
 
 pub use error::LoadError;
-pub use limits::{DEFAULT_MAX_TEXTURE_PIXELS, LoadOptions, MAX_COORDINATE, MAX_EMISSION};
+pub use limits::{
+    DEFAULT_MAX_GEOMETRY_BYTES, DEFAULT_MAX_TEXTURE_PIXELS, GEOMETRY_BYTES_PER_INDEX,
+    GEOMETRY_BYTES_PER_VERTEX, LoadOptions, MAX_COORDINATE, MAX_EMISSION,
+};
 pub use materials::uv_transform;
 pub use primitives::{assemble_triangles, normal_transform};
-pub use source::{SUPPORTED_EXTENSIONS, external_path};
+pub use source::{MemoryFiles, SUPPORTED_EXTENSIONS, external_path};
 
 /// The folder the relative URIs of the scene file at `path` resolve against: its own folder.
 pub fn base_dir(path: &Path) -> &Path {
@@ -101,7 +104,7 @@ pub fn base_dir(path: &Path) -> &Path {
 
 use super::{Material, Scene};
 use glam::Mat4;
-use source::Origin;
+use source::{Files, Origin};
 use std::path::Path;
 
 /// Which scene of the file to load, and at what animation time.
@@ -179,7 +182,7 @@ pub fn load_full(
         &bytes,
         Origin {
             file: path,
-            base_dir: Some(base_dir(path)),
+            files: Files::Folder(base_dir(path)),
             options,
         },
         selection,
@@ -196,10 +199,35 @@ pub fn load_slice_with_warnings(
         bytes,
         Origin {
             file: Path::new(label),
-            base_dir,
+            files: base_dir.map_or(Files::None, Files::Folder),
             options: &LoadOptions::default(),
         },
         &SceneSelection::default(),
+    )
+}
+
+/// Loads a glTF or GLB held in memory whose external buffers and images are held in memory
+/// too: each relative URI is looked up in `files` (see [`MemoryFiles`]); nothing is read from
+/// disk. `label` names the scene in errors. The scene, time and budgets are those of
+/// `selection` and `options` (`options.asset_root` does not apply: no file is read).
+///
+/// This is the entry point for scenes that arrive over a network or from an archive, and for
+/// the in-process fuzz targets (`examples/fuzz/`).
+pub fn load_from_memory(
+    bytes: &[u8],
+    label: &str,
+    files: &MemoryFiles,
+    selection: &SceneSelection,
+    options: &LoadOptions,
+) -> Result<Loaded, LoadError> {
+    load_bytes(
+        bytes,
+        Origin {
+            file: Path::new(label),
+            files: Files::Memory(files),
+            options,
+        },
+        selection,
     )
 }
 
@@ -217,7 +245,8 @@ fn load_bytes(
     selection: &SceneSelection,
 ) -> Result<Loaded, LoadError> {
     let mut warnings = Vec::new();
-    let source = source::parse(bytes, origin, &mut warnings)?;
+    let mut geometry = limits::GeometryBudget::new(origin.options);
+    let source = source::parse(bytes, origin, &mut geometry, &mut warnings)?;
     let document = &source.document;
     let materials::Materials {
         mut materials,
@@ -355,6 +384,11 @@ fn load_bytes(
                         morph_weights: &drawn.weights,
                         skin: drawn.joints.as_deref(),
                     };
+                    geometry.charge(
+                        primitive_geometry_bytes(&primitive),
+                        &ctx.label,
+                        origin,
+                    )?;
                     if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
                         built.node = u32::try_from(node.node.index()).ok();
                         normal_texture::ensure_tangents(
@@ -395,4 +429,21 @@ fn load_bytes(
     scene.materials = materials;
     limits::check_scene(&scene, origin)?;
     Ok(Loaded { scene, warnings })
+}
+
+/// What building `primitive` may allocate, from its accessors' declared counts: every vertex
+/// at [`GEOMETRY_BYTES_PER_VERTEX`], and its indices (three per strip or fan element).
+fn primitive_geometry_bytes(primitive: &::gltf::Primitive<'_>) -> u64 {
+    use ::gltf::mesh::Mode;
+    let vertices = primitive
+        .get(&::gltf::Semantic::Positions)
+        .map_or(0, |a| a.count() as u64);
+    let elements = primitive.indices().map_or(vertices, |a| a.count() as u64);
+    let indices = match primitive.mode() {
+        Mode::TriangleStrip | Mode::TriangleFan => elements.saturating_mul(3),
+        _ => elements,
+    };
+    vertices
+        .saturating_mul(GEOMETRY_BYTES_PER_VERTEX)
+        .saturating_add(indices.saturating_mul(GEOMETRY_BYTES_PER_INDEX))
 }

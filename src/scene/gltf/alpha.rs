@@ -75,7 +75,7 @@ mod tests {
         let options = crate::scene::gltf::LoadOptions::default();
         let origin = Origin {
             file: Path::new("x.gltf"),
-            base_dir: None,
+            files: crate::scene::gltf::source::Files::None,
             options: &options,
         };
         let mut warnings = Vec::new();

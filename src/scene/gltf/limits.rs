@@ -10,6 +10,17 @@ use std::path::PathBuf;
 /// Default per-image texel budget: 8192 × 8192 texels (1 GiB as linear RGBA f32).
 pub const DEFAULT_MAX_TEXTURE_PIXELS: u64 = 8192 * 8192;
 
+/// Default geometry budget: 4 GiB of decoded vertices and indices per scene (about 50 million
+/// vertices at [`GEOMETRY_BYTES_PER_VERTEX`]).
+pub const DEFAULT_MAX_GEOMETRY_BYTES: u64 = 4 << 30;
+
+/// What one vertex of a built mesh may cost, for the geometry budget: position, normal,
+/// tangent, two texture coordinate sets and a colour (12 + 12 + 16 + 8 + 8 + 16 bytes).
+pub const GEOMETRY_BYTES_PER_VERTEX: u64 = 72;
+
+/// What one index of a built mesh costs (u32).
+pub const GEOMETRY_BYTES_PER_INDEX: u64 = 4;
+
 /// Largest coordinate magnitude a scene may hold (positions, camera and light positions,
 /// orthographic extents): 2^40 ≈ 1.1e12. Beyond it an f32 has a spacing of 2^17 or more, so a
 /// ray starting there cannot resolve anything smaller than a 100-km step, and Embree rejects
@@ -39,6 +50,11 @@ pub struct LoadOptions {
     /// Most texels one texture image may have; its header is read and checked before it is
     /// decoded.
     pub max_texture_pixels: u64,
+    /// Most bytes of geometry a scene may decode and build: compressed buffer views
+    /// (EXT_meshopt_compression) and Draco primitives as declared, and each primitive's
+    /// vertices and indices as they will be built (skinned and morphed copies included),
+    /// checked before the memory is allocated.
+    pub max_geometry_bytes: u64,
 }
 
 impl Default for LoadOptions {
@@ -46,6 +62,7 @@ impl Default for LoadOptions {
         Self {
             asset_root: None,
             max_texture_pixels: DEFAULT_MAX_TEXTURE_PIXELS,
+            max_geometry_bytes: DEFAULT_MAX_GEOMETRY_BYTES,
         }
     }
 }
@@ -171,4 +188,45 @@ pub fn clamp_factor(
         origin.file.display()
     ));
     clamped
+}
+
+/// The geometry a load has committed to so far, against [`LoadOptions::max_geometry_bytes`].
+#[derive(Debug)]
+pub struct GeometryBudget {
+    limit: u64,
+    spent: u64,
+}
+
+impl GeometryBudget {
+    /// A budget of `options.max_geometry_bytes`, nothing spent.
+    pub fn new(options: &LoadOptions) -> Self {
+        Self {
+            limit: options.max_geometry_bytes,
+            spent: 0,
+        }
+    }
+
+    /// Bytes still available.
+    pub fn left(&self) -> u64 {
+        self.limit.saturating_sub(self.spent)
+    }
+
+    /// Commits `bytes` for `what` (`buffer view 3 (EXT_meshopt_compression)`), or refuses
+    /// before anything is allocated when they do not fit.
+    pub fn charge(&mut self, bytes: u64, what: &str, origin: Origin<'_>) -> Result<(), LoadError> {
+        if bytes > self.left() {
+            return Err(LoadError::Data {
+                path: origin.file.to_path_buf(),
+                what: what.to_string(),
+                problem: format!(
+                    "needs {bytes} bytes of geometry, more than the {} left of the scene's geometry \
+                     budget of {} bytes (raise --max-geometry-bytes if the scene is real)",
+                    self.left(),
+                    self.limit
+                ),
+            });
+        }
+        self.spent += bytes;
+        Ok(())
+    }
 }

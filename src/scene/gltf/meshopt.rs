@@ -60,6 +60,7 @@ pub fn decode_views(
     document: ::gltf::Document,
     buffers: &mut Vec<Vec<u8>>,
     origin: Origin<'_>,
+    geometry: &mut super::limits::GeometryBudget,
 ) -> Result<::gltf::Document, LoadError> {
     if document
         .views()
@@ -109,6 +110,7 @@ pub fn decode_views(
                 compressed.count, compressed.byte_stride, view.byte_length.0
             )));
         }
+        geometry.charge(expected, &what, origin)?;
         let decoded = decode(source, &compressed).map_err(fail)?;
         let length = decoded.len();
         view.buffer = ::gltf::json::Index::new(root.buffers.len() as u32);

@@ -18,6 +18,7 @@ pub fn decode_views(
     document: ::gltf::Document,
     _buffers: &mut Vec<Vec<u8>>,
     _origin: Origin<'_>,
+    _geometry: &mut super::limits::GeometryBudget,
 ) -> Result<::gltf::Document, LoadError> {
     Ok(document)
 }

@@ -40,13 +40,71 @@ pub struct Source {
     pub buffers: Vec<Vec<u8>>,
 }
 
+/// Where a scene's relative URIs (external buffers and images) are read from.
+#[derive(Clone, Copy)]
+pub enum Files<'a> {
+    /// Nowhere: only embedded data (GLB chunks, data URIs) is allowed.
+    None,
+    /// Files relative to this folder (the scene file's own).
+    Folder(&'a Path),
+    /// Files held in memory, looked up by their relative path.
+    Memory(&'a MemoryFiles),
+}
+
+/// External files of a scene held in memory, by relative path: what
+/// [`load_from_memory`](super::load_from_memory) resolves a URI against instead of a folder.
+///
+/// A URI is looked up after its percent-escapes are decoded and a leading `./` removed, so
+/// `tex%20a.png` finds the file inserted as `tex a.png`.
+#[derive(Clone, Debug, Default)]
+pub struct MemoryFiles {
+    files: std::collections::HashMap<String, Vec<u8>>,
+}
+
+impl MemoryFiles {
+    /// No files.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds (or replaces) the file at `relative_path` (`textures/a.png`, `scene.bin`).
+    pub fn insert(&mut self, relative_path: impl Into<String>, bytes: Vec<u8>) {
+        let path: String = relative_path.into();
+        self.files.insert(normalise(&path).to_string(), bytes);
+    }
+
+    /// The file at `relative_path`, if present.
+    pub fn get(&self, relative_path: &str) -> Option<&[u8]> {
+        self.files.get(normalise(relative_path)).map(Vec::as_slice)
+    }
+
+    /// How many files there are.
+    pub fn len(&self) -> usize {
+        self.files.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.files.is_empty()
+    }
+}
+
+/// A relative path without its leading `./` segments.
+fn normalise(path: &str) -> &str {
+    let mut path = path;
+    while let Some(rest) = path.strip_prefix("./") {
+        path = rest;
+    }
+    path
+}
+
 /// Where the loader reads from, for messages and relative URIs.
 #[derive(Clone, Copy)]
 pub struct Origin<'a> {
     /// The scene file (or the in-memory label) named in messages.
     pub file: &'a Path,
-    /// The folder relative URIs resolve against; `None` forbids external files.
-    pub base_dir: Option<&'a Path>,
+    /// Where relative URIs resolve: a folder, in-memory files, or nowhere.
+    pub files: Files<'a>,
     /// The asset root and size budgets.
     pub options: &'a super::LoadOptions,
 }
@@ -73,6 +131,7 @@ impl Origin<'_> {
 pub fn parse(
     bytes: &[u8],
     origin: Origin<'_>,
+    geometry: &mut super::limits::GeometryBudget,
     warnings: &mut Vec<String>,
 ) -> Result<Source, LoadError> {
     if bytes.is_empty() {
@@ -108,7 +167,7 @@ pub fn parse(
         other => origin.syntax(other.to_string()),
     })?;
     let mut buffers = load_buffers(&document, blob, origin)?;
-    let document = super::meshopt::decode_views(document, &mut buffers, origin)?;
+    let document = super::meshopt::decode_views(document, &mut buffers, origin, geometry)?;
     Ok(Source { document, buffers })
 }
 
@@ -344,18 +403,36 @@ pub fn read_uri<'u>(
             format!("refers to \"{uri}\": URI scheme \"{scheme}:\" is not supported; use a relative path or embed the data"),
         ));
     }
-    let Some(base_dir) = origin.base_dir else {
-        return Err(origin.data(
-            what,
-            format!("refers to the external file \"{uri}\", but this scene is loaded from memory; embed the data (GLB)"),
-        ));
-    };
     let relative = urlencoding::decode(uri).map_err(|_| {
         origin.data(
             what,
             format!("refers to \"{uri}\", whose %-escapes are not UTF-8; fix the URI"),
         )
     })?;
+    let base_dir = match origin.files {
+        Files::Folder(dir) => dir,
+        Files::None => {
+            return Err(origin.data(
+                what,
+                format!("refers to the external file \"{uri}\", but this scene is loaded from memory; embed the data (GLB)"),
+            ));
+        }
+        Files::Memory(files) => {
+            return files
+                .get(relative.as_ref())
+                .map(|bytes| Cow::Owned(bytes.to_vec()))
+                .ok_or_else(|| LoadError::MissingFile {
+                    path: origin.file.to_path_buf(),
+                    what: what.to_string(),
+                    uri: uri.to_string(),
+                    resolved: PathBuf::from(relative.as_ref()),
+                    source: std::io::Error::new(
+                        std::io::ErrorKind::NotFound,
+                        "not among the scene's in-memory files",
+                    ),
+                });
+        }
+    };
     let refuse = |problem: String| origin.data(what, format!("refers to \"{uri}\": {problem}"));
     if Path::new(relative.as_ref()).is_absolute() {
         return Err(refuse(

@@ -66,7 +66,7 @@ mod tests {
         let options = crate::scene::gltf::LoadOptions::default();
         let origin = Origin {
             file: Path::new("x.glb"),
-            base_dir: None,
+            files: crate::scene::gltf::source::Files::None,
             options: &options,
         };
         let message = error(

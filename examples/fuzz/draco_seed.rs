@@ -1,0 +1,6 @@
+//! Draco seeds (filled in with the Draco decoder's support).
+
+/// No Draco seeds yet.
+pub fn seeds() -> Vec<(String, Vec<u8>)> {
+    Vec::new()
+}
