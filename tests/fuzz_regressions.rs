@@ -1,6 +1,12 @@
-//! Replays every input the fuzz loop (`scripts/fuzz.sh`) found crashing, kept in
-//! `tests/fuzz-regressions/`: each must now load (or be refused with a one-line error naming
-//! the file) on every backend, without a panic. An abort or a hang fails the test binary.
+//! Replays every input the fuzz loops found crashing, kept in `tests/fuzz-regressions/`:
+//! each must now load (or be refused with a one-line error naming the file) without a panic.
+//! An abort or a hang fails the test binary.
+//!
+//! - `tests/fuzz-regressions/*.gltf|glb`: found by the file-based loop (`scripts/fuzz.sh`),
+//!   replayed on every backend;
+//! - `tests/fuzz-regressions/TARGET/*`: found by the in-process targets (`examples/fuzz`),
+//!   replayed through the same target function, which must come back clean (no panic, no
+//!   broken contract).
 //!
 //! A kept input `NAME.gltf` / `NAME.glb` may have `NAME.seed` beside it: the path of the
 //! shared seed file it was mutated from, whose folder its relative URIs resolve against (the
@@ -8,6 +14,11 @@
 
 #[path = "mutate/mod.rs"]
 mod mutate;
+
+#[path = "../examples/fuzz/engine.rs"]
+mod engine;
+#[path = "../examples/fuzz/targets.rs"]
+mod targets;
 
 use std::path::{Path, PathBuf};
 
@@ -49,4 +60,30 @@ fn every_kept_fuzz_crash_now_loads_or_is_refused() {
     let _ = std::panic::take_hook();
     eprintln!("{} kept fuzz inputs replayed", inputs.len());
     assert!(crashes.is_empty(), "{}", crashes.join("\n"));
+}
+
+#[test]
+fn every_kept_finding_of_the_in_process_targets_is_now_clean() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz-regressions");
+    std::panic::set_hook(Box::new(|_| {}));
+    let mut broken = Vec::new();
+    let mut replayed = 0;
+    for target in targets::all() {
+        let dir = root.join(target.name);
+        let mut inputs: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .map(|entries| entries.flatten().map(|e| e.path()).collect())
+            .unwrap_or_default();
+        inputs.retain(|p| p.extension().is_some_and(|e| e != "txt" && e != "md"));
+        inputs.sort();
+        let mut fuzzer = engine::Fuzzer::new(target, Vec::new(), 0);
+        for input in inputs {
+            let bytes = std::fs::read(&input).expect("read a kept finding");
+            replayed += 1;
+            if let engine::Verdict::Finding(f) = fuzzer.execute(&bytes) {
+                broken.push(format!("{}: {}: {}", input.display(), f.kind, f.message));
+            }
+        }
+    }
+    eprintln!("{replayed} kept findings of the in-process targets replayed");
+    assert!(broken.is_empty(), "{}", broken.join("\n"));
 }

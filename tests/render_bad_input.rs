@@ -109,11 +109,11 @@ fn bad_scenes_fail_cleanly() {
             "required-ext.gltf",
             triangle_doc(
                 &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
-                json!({"extensionsUsed": ["KHR_draco_mesh_compression"],
-                       "extensionsRequired": ["KHR_draco_mesh_compression"]}),
+                json!({"extensionsUsed": ["EXT_lights_image_based"],
+                       "extensionsRequired": ["EXT_lights_image_based"]}),
             )
             .into_bytes(),
-            "KHR_draco_mesh_compression",
+            "EXT_lights_image_based",
         ),
         (
             "missing-bin.gltf",

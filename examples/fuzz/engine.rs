@@ -4,7 +4,7 @@
 //!
 //! A *target* is a plain function from bytes to an [`Outcome`]. The engine keeps a corpus
 //! (the seeds, then every input whose outcome had a *signature* not seen before: its result
-//! summary or error message with the numbers blanked out) and makes each new input by
+//! summary or error message with the numbers of two or more digits blanked out) and makes each new input by
 //! stacking one to four mutations of a corpus entry. The signature is cheap feedback without
 //! compiler instrumentation (stable Rust has none for this): glint's errors name what was
 //! wrong, so a new message means the input got further, or elsewhere, in the decoder; the
@@ -130,12 +130,14 @@ impl<'t> Fuzzer<'t> {
     }
 
     /// The next input: a corpus entry, mutated. Half the time the entry is a seed or an
-    /// accepted input (most refused inputs are refused early, and their mutants too).
+    /// accepted input (most refused inputs are refused early, and their mutants too), a
+    /// quarter of the time one of the eight newest entries.
     pub fn next_input(&mut self) -> Vec<u8> {
-        let pick = if self.rng.random_bool(0.5) {
-            self.valid[self.rng.random_range(0..self.valid.len())]
-        } else {
-            self.rng.random_range(0..self.corpus.len())
+        let pick = match self.rng.random_range(0..4) {
+            0 | 1 => self.valid[self.rng.random_range(0..self.valid.len())],
+            // The newest entries: what got furthest most recently.
+            2 => self.corpus.len() - 1 - self.rng.random_range(0..self.corpus.len().min(8)),
+            _ => self.rng.random_range(0..self.corpus.len()),
         };
         let other = self.rng.random_range(0..self.corpus.len());
         let mut input = self.corpus[pick].clone();
@@ -222,21 +224,31 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "a panic with a non-text payload".into())
 }
 
-/// A hash of `text` with every run of digits blanked, so that "offset 17" and "offset 18"
-/// are one signature and "offset 17" and "length 17" are two.
+/// A hash of `text` with every number of two or more digits blanked, so that "offset 17" and
+/// "offset 18" are one signature and "offset 17" and "length 17" are two. Single digits are
+/// kept: they are mostly indices of fields, channels, bytes or versions, where a different
+/// digit means the input got somewhere else.
 pub fn signature(tag: u8, text: &str) -> u64 {
     let mut shape = Vec::with_capacity(text.len() + 1);
     shape.push(tag);
-    let mut in_number = false;
-    for b in text.bytes().take(512) {
-        if b.is_ascii_digit() {
-            if !in_number {
-                shape.push(b'#');
+    let bytes = text.as_bytes();
+    let bytes = &bytes[..bytes.len().min(512)];
+    let mut i = 0;
+    while i < bytes.len() {
+        let run = bytes[i..].iter().take_while(|b| b.is_ascii_digit()).count();
+        match run {
+            0 => {
+                shape.push(bytes[i]);
+                i += 1;
             }
-            in_number = true;
-        } else {
-            in_number = false;
-            shape.push(b);
+            1 => {
+                shape.push(bytes[i]);
+                i += 1;
+            }
+            _ => {
+                shape.push(b'#');
+                i += run;
+            }
         }
     }
     xxhash_rust::xxh3::xxh3_64(&shape)
@@ -326,7 +338,12 @@ pub fn mutate_bytes(
         }
         2 if len > 0 => {
             let i = at(rng, len);
-            input[i] = rng.random();
+            // Printable ASCII half of the time: magic numbers and keywords are mostly text.
+            input[i] = if rng.random_bool(0.5) {
+                rng.random_range(0x20..0x7f)
+            } else {
+                rng.random()
+            };
         }
         3 | 4 if len > 0 => {
             // An interesting integer, 1/2/4/8 bytes, little or big endian.

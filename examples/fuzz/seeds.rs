@@ -44,6 +44,9 @@ pub fn shared_extras(target: &str, max_len: usize) -> Vec<Vec<u8>> {
     let mut out = Vec::new();
     match target {
         "gltf" => {
+            // The Draco test files (Google's encoder).
+            let draco = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/draco");
+            collect(&draco, &["glb"], max_len, &mut out);
             for seed in super::mutate::seeds(&[shared.join("khronos"), shared.join("scenes")], max_len as u64) {
                 if seed.name.ends_with(".glb") {
                     out.push(seed.bytes);

@@ -283,7 +283,7 @@ pub fn image(input: &[u8]) -> Outcome {
     use glint::scene::texture_decode::{ColorSpace, decode_image};
     match decode_image(input, ColorSpace::Srgb, budgets::TEXTURE_PIXELS) {
         Ok(image) => Outcome::Accepted(format!("{}x{}", image.width, image.height)),
-        Err(err) => Outcome::Refused(err.to_string().replace('\n', " ")),
+        Err(err) => Outcome::Refused(err.to_string()),
     }
 }
 
@@ -379,8 +379,9 @@ pub fn meshopt(input: &[u8]) -> Outcome {
 }
 
 /// `draco`: a GLB whose one primitive is KHR_draco_mesh_compression over the input: the
-/// first byte picks the attributes the extension maps (POSITION; + NORMAL; + TEXCOORD_0),
-/// the rest is the Draco stream.
+/// first byte picks the attributes the extension maps (POSITION; bit 0: + NORMAL; bit 1:
+/// + TEXCOORD_0 as id 2; bit 2: POSITION and NORMAL as ids 1 and 0), the rest is the Draco
+/// stream.
 pub fn draco(input: &[u8]) -> Outcome {
     let Some((&which, data)) = input.split_first() else {
         return Outcome::Refused("empty".into());
@@ -389,14 +390,16 @@ pub fn draco(input: &[u8]) -> Outcome {
     while bin.len() % 4 != 0 {
         bin.push(0);
     }
+    // Bit 2 swaps the ids of POSITION and NORMAL (Google's encoder writes NORMAL first).
+    let (position_id, normal_id) = if which & 4 == 4 { (1, 0) } else { (0, 1) };
     let mut attributes = serde_json::json!({"POSITION": 0});
-    let mut ids = serde_json::json!({"POSITION": 0});
+    let mut ids = serde_json::json!({"POSITION": position_id});
     let mut accessors = vec![serde_json::json!(
         {"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]}
     )];
     if which & 1 == 1 {
         attributes["NORMAL"] = 1.into();
-        ids["NORMAL"] = 1.into();
+        ids["NORMAL"] = normal_id.into();
         accessors.push(serde_json::json!({"componentType": 5126, "count": 3, "type": "VEC3"}));
     }
     if which & 2 == 2 {

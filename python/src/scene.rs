@@ -118,6 +118,7 @@ pub fn load(
     let options = LoadOptions {
         asset_root,
         max_texture_pixels,
+        ..Default::default()
     };
     let doing = format!("loading {}", source.label());
     let prepared = interrupt::run_detached(py, &doing, |_| {

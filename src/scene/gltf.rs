@@ -61,6 +61,7 @@ mod accessors;
 mod alpha;
 mod animation;
 mod basisu;
+mod draco;
 mod error;
 mod instancing;
 mod limits;

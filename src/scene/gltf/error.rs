@@ -148,3 +148,9 @@ impl LoadError {
         }
     }
 }
+
+/// A third-party library's message on one line: its line breaks and the indentation after
+/// them become single spaces (glint's errors are one line each; some decoders wrap theirs).
+pub fn one_line(message: &str) -> String {
+    message.split_whitespace().collect::<Vec<_>>().join(" ")
+}

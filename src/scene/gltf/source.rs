@@ -27,6 +27,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_mesh_gpu_instancing",
     "EXT_texture_webp",
     "KHR_texture_basisu",
+    "KHR_draco_mesh_compression",
 ];
 
 /// Size of the GLB header: magic, version, total length (3 × u32).
@@ -159,6 +160,12 @@ pub fn parse(
     root.extensions_required
         .retain(|e| ::gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
     check_mesh_accessor_references(&root, origin)?;
+    // Buffers are read before validation so that Draco primitives can be decoded into plain
+    // accessors first (the validator refuses their view-less accessors until then).
+    let unvalidated = ::gltf::Document::from_json_without_validation(root);
+    let mut buffers = load_buffers(&unvalidated, blob, origin)?;
+    let mut root = unvalidated.into_json();
+    super::draco::decode_primitives(&mut root, &mut buffers, origin, geometry)?;
     let document = ::gltf::Document::from_json(root).map_err(|err| match err {
         ::gltf::Error::Validation(problems) => LoadError::Schema {
             path: origin.file.to_path_buf(),
@@ -166,7 +173,6 @@ pub fn parse(
         },
         other => origin.syntax(other.to_string()),
     })?;
-    let mut buffers = load_buffers(&document, blob, origin)?;
     let document = super::meshopt::decode_views(document, &mut buffers, origin, geometry)?;
     Ok(Source { document, buffers })
 }

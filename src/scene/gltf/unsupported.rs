@@ -8,12 +8,6 @@ use super::source::{Origin, SUPPORTED_EXTENSIONS};
 /// than "re-export without it".
 fn advice(extension: &str) -> Option<&'static str> {
     Some(match extension {
-        // glint has no Draco decoder (see docs/gltf.md for why).
-        "KHR_draco_mesh_compression" => {
-            "Draco-compressed geometry: decompress it first, e.g. `gltf-pipeline -i IN.glb -o OUT.glb` \
-             (writes plain geometry), then, to keep the file small, `gltfpack -i OUT.glb -o SMALL.glb -c` \
-             (meshopt compression, which glint reads)"
-        }
         "EXT_meshopt_compression" => {
             "meshopt-compressed geometry: rebuild glint with its `meshopt` feature (on by default; it needs \
              a C++ compiler), or decompress with `gltfpack -i IN.glb -o OUT.glb` (no `-c`)"
@@ -71,7 +65,7 @@ mod tests {
         };
         let message = error(
             &[
-                "KHR_draco_mesh_compression",
+                "EXT_meshopt_compression",
                 "KHR_materials_pbrSpecularGlossiness",
                 "EXT_foo",
             ],
@@ -80,9 +74,9 @@ mod tests {
         .to_string();
         assert!(!message.contains('\n'));
         assert!(message.contains(
-            "requires extensions KHR_draco_mesh_compression, KHR_materials_pbrSpecularGlossiness and EXT_foo"
+            "requires extensions EXT_meshopt_compression, KHR_materials_pbrSpecularGlossiness and EXT_foo"
         ));
-        assert!(message.contains("gltf-pipeline") && message.contains("without the others"));
+        assert!(message.contains("gltfpack") && message.contains("without the others"));
         let single = error(&["EXT_foo"], origin).to_string();
         assert!(single.contains("requires extension EXT_foo,"));
     }
