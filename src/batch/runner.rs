@@ -43,7 +43,7 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-use std::time::Instant;
+use std::time::{Instant, SystemTime};
 
 /// How to run a batch.
 #[derive(Clone, Debug)]
@@ -52,8 +52,11 @@ pub struct BatchOptions {
     pub output_root: Option<PathBuf>,
     /// Which jobs to run.
     pub shard: Shard,
-    /// Render jobs whose output already exists.
+    /// Render jobs whose output already exists, unless another batch wrote it while this one
+    /// ran (then it is that batch's fresh work).
     pub force: bool,
+    /// Claims of other batches this one may take over (see [`claim`]'s stale-claim rule).
+    pub claims: claim::ClaimPolicy,
     /// Worker threads shared by all jobs; 0 uses every core.
     pub threads: usize,
     /// No progress bar and no per-job lines (errors still print).
@@ -96,6 +99,7 @@ pub fn run_with_loader(
     load: &SceneLoader<'_>,
 ) -> Result<BatchReport, RenderError> {
     let start = Instant::now();
+    let started = std::time::SystemTime::now();
     let mut reports: Vec<JobReport> = Vec::new();
     let fail =
         |job: &Job, message: String| report(job, JobStatus::Failed, 0.0, None, Some(message));
@@ -133,7 +137,7 @@ pub fn run_with_loader(
         if !options.force && output_is_complete(job) {
             // A batch killed between writing this output and giving its claim up left the
             // claim file (and perhaps temporaries of a later write): free, so removed.
-            if let Ok(Some(held)) = claim::try_claim(job.output()) {
+            if let Ok(Some(held)) = claim::try_claim_with(job.output(), &options.claims) {
                 held.remove_stray_temps();
                 held.release();
             }
@@ -159,7 +163,7 @@ pub fn run_with_loader(
         // the scene would be wasted. (Only a hint: the claims below decide.)
         if !group
             .iter()
-            .any(|job| might_need_rendering(job, options.force))
+            .any(|job| might_need_rendering(job, options, started))
         {
             for job in group {
                 let status = if output_is_complete(job) {
@@ -196,7 +200,7 @@ pub fn run_with_loader(
         let done: Vec<JobReport> = pool.install(|| {
             group
                 .par_iter()
-                .map(|job| claim_and_render(job, &prepared, &pool, &progress, options.force))
+                .map(|job| claim_and_render(job, &prepared, &pool, &progress, options, started))
                 .collect()
         });
         reports.extend(done);
@@ -219,19 +223,34 @@ pub fn run_with_loader(
 }
 
 /// Whether `job` may still need rendering here: its claim is free (checked by taking and
-/// dropping it) and its output is not complete (or `force`).
-fn might_need_rendering(job: &Job, force: bool) -> bool {
-    match claim::try_claim(job.output()) {
+/// dropping it) and its output is not complete (or `force`, and no other batch wrote it
+/// since `started`).
+fn might_need_rendering(job: &Job, options: &BatchOptions, started: SystemTime) -> bool {
+    match claim::try_claim_with(job.output(), &options.claims) {
         // Cannot claim: let the job itself report why.
         Err(_) => true,
         Ok(None) => false,
         Ok(Some(held)) => {
-            let needed = force || !output_is_complete(job);
+            let needed = if options.force {
+                !written_since(job, started)
+            } else {
+                !output_is_complete(job)
+            };
             // Released (file removed) either way, so a failed load leaves no claim file.
             held.release();
             needed
         }
     }
+}
+
+/// Whether `job`'s output is complete and was written at or after `started`: by another batch
+/// running beside this one (this one renders each job once), whose work `--force` must not
+/// redo.
+fn written_since(job: &Job, started: SystemTime) -> bool {
+    output_is_complete(job)
+        && std::fs::metadata(job.output())
+            .and_then(|m| m.modified())
+            .is_ok_and(|modified| modified >= started)
 }
 
 fn busy_or_skipped(job: &Job, status: JobStatus) -> JobReport {
@@ -250,9 +269,10 @@ fn claim_and_render(
     prepared: &PreparedScene,
     pool: &rayon::ThreadPool,
     progress: &Progress,
-    force: bool,
+    options: &BatchOptions,
+    started: SystemTime,
 ) -> JobReport {
-    let held = match claim::try_claim(job.output()) {
+    let held = match claim::try_claim_with(job.output(), &options.claims) {
         Ok(Some(held)) => held,
         Ok(None) => {
             progress.pass_job(job, "claimed by another glint batch; not rendered here");
@@ -268,8 +288,14 @@ fn claim_and_render(
         }
     };
     held.remove_stray_temps();
-    // Another process may have finished the job since this one looked.
-    if !force && output_is_complete(job) {
+    // Another process may have finished the job since this one looked (with --force: since
+    // this batch started).
+    let done_elsewhere = if options.force {
+        written_since(job, started)
+    } else {
+        output_is_complete(job)
+    };
+    if done_elsewhere {
         held.release();
         progress.pass_job(job, "written by another glint batch meanwhile; skipped");
         return report(job, JobStatus::Skipped, 0.0, None, None);
@@ -550,6 +576,7 @@ mod tests {
             output_root: None,
             shard: Shard::ALL,
             force: false,
+            claims: Default::default(),
             threads: 1,
             quiet: true,
         };

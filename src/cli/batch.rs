@@ -26,9 +26,14 @@ pub struct BatchArgs {
     /// file's `output_root`, else the job file's folder.
     #[arg(long, value_name = "DIR")]
     pub output_root: Option<PathBuf>,
-    /// Render jobs whose output already exists (by default they are skipped).
+    /// Render jobs whose output already exists (by default they are skipped); never one that
+    /// another batch running beside this one wrote meanwhile.
     #[arg(long)]
     pub force: bool,
+    /// On file systems without flock: take over claims of other hosts not touched for this
+    /// many seconds (at least 180; by default never). See docs/batch.md.
+    #[arg(long, value_name = "SECONDS", value_parser = clap::value_parser!(u64).range(180..))]
+    pub steal_claims: Option<u64>,
     /// Worker threads shared by all jobs; 0 uses every core.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -93,6 +98,10 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
         output_root: args.output_root.clone().or(file.output_root),
         shard,
         force: args.force,
+        claims: crate::batch::claim::ClaimPolicy {
+            steal_after: args.steal_claims.map(std::time::Duration::from_secs),
+            ..Default::default()
+        },
         threads: args.threads,
         quiet: args.quiet,
     };
