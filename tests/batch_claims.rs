@@ -74,7 +74,15 @@ fn two_batches_render_each_job_once(extra: &[&str], no_flock: bool) -> (usize, u
         assert!(first.status.success());
     }
     let spawn = |report: &str| {
-        let mut args = vec!["batch", "jobs.toml", "--report", report, "-q", "--threads", "1"];
+        let mut args = vec![
+            "batch",
+            "jobs.toml",
+            "--report",
+            report,
+            "-q",
+            "--threads",
+            "1",
+        ];
         args.extend_from_slice(extra);
         command(&args, dir.path(), no_flock)
             .stdout(Stdio::null())
@@ -95,7 +103,11 @@ fn two_batches_render_each_job_once(extra: &[&str], no_flock: bool) -> (usize, u
             .iter()
             .filter(|s| s[&index] == "rendered")
             .count();
-        assert_eq!(rendered, 1, "job {index}: {} and {}", sa[&index], sb[&index]);
+        assert_eq!(
+            rendered, 1,
+            "job {index}: {} and {}",
+            sa[&index], sb[&index]
+        );
     }
     // No claim file is left behind.
     let left: Vec<String> = std::fs::read_dir(dir.path().join("out"))
@@ -143,25 +155,53 @@ fn a_dead_processs_claim_is_taken_over_and_another_hosts_is_not() {
     let dead = child.id();
     child.wait().unwrap();
     let out = dir.path().join("out");
-    std::fs::write(out.join(".job-000.png.glint-excl-claim"), claim_text(&this_host(), dead))
-        .unwrap();
-    std::fs::write(out.join(".job-001.png.glint-excl-claim"), claim_text("elsewhere", 1)).unwrap();
-    let run = command(&["batch", "jobs.toml", "--report", "r.json", "-q"], dir.path(), true)
-        .output()
-        .unwrap();
+    std::fs::write(
+        out.join(".job-000.png.glint-excl-claim"),
+        claim_text(&this_host(), dead),
+    )
+    .unwrap();
+    std::fs::write(
+        out.join(".job-001.png.glint-excl-claim"),
+        claim_text("elsewhere", 1),
+    )
+    .unwrap();
+    let run = command(
+        &["batch", "jobs.toml", "--report", "r.json", "-q"],
+        dir.path(),
+        true,
+    )
+    .output()
+    .unwrap();
     let first = statuses(&dir.path().join("r.json"));
-    assert_eq!(first[&0], "rendered", "{}", String::from_utf8_lossy(&run.stderr));
+    assert_eq!(
+        first[&0],
+        "rendered",
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     assert_eq!(first[&1], "busy");
     assert!(out.join("job-000.png").exists() && !out.join("job-001.png").exists());
     assert!(!out.join(".job-000.png.glint-excl-claim").exists());
     // Still held by the other host: --steal-claims below its minimum age is refused, and a
     // claim touched just now is not old enough for a valid one.
-    let refused = command(&["batch", "jobs.toml", "--steal-claims", "10"], dir.path(), true)
-        .output()
-        .unwrap();
+    let refused = command(
+        &["batch", "jobs.toml", "--steal-claims", "10"],
+        dir.path(),
+        true,
+    )
+    .output()
+    .unwrap();
     assert_eq!(refused.status.code(), Some(2));
     let young = command(
-        &["batch", "jobs.toml", "--steal-claims", "600", "--report", "r2.json", "-q"],
+        &[
+            "batch",
+            "jobs.toml",
+            "--steal-claims",
+            "600",
+            "--report",
+            "r2.json",
+            "-q",
+        ],
         dir.path(),
         true,
     )

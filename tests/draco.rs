@@ -13,7 +13,9 @@ use glint::scene::gltf::{LoadOptions, MemoryFiles, SceneSelection, load_from_mem
 use std::path::{Path, PathBuf};
 
 fn here(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/draco").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/draco")
+        .join(name)
 }
 
 fn shared(model: &str) -> PathBuf {
@@ -75,8 +77,14 @@ fn check_twins(model: &str) -> (Scene, Scene) {
     // (a symmetric Hausdorff distance over the vertices).
     let there = one_sided_distance(&points_b, &points_a);
     let back = one_sided_distance(&points_a, &points_b);
-    eprintln!("{model}: {} triangles, step {step:e}, distances {there:e} / {back:e}", a.len());
-    assert!(there <= step && back <= step, "{model}: {there} / {back} > step {step}");
+    eprintln!(
+        "{model}: {} triangles, step {step:e}, distances {there:e} / {back:e}",
+        a.len()
+    );
+    assert!(
+        there <= step && back <= step,
+        "{model}: {there} / {back} > step {step}"
+    );
     // The surface is the same: the total area agrees to the quantisation's relative error.
     let area = |t: &[[Vec3; 3]]| -> f32 {
         t.iter()
@@ -119,11 +127,17 @@ fn compare_images(model: &str, twin: &Scene, draco: &Scene) {
         differing += usize::from((*p - *q).abs().max_element() > 0.05 * p.max_element().max(1e-3));
     }
     let rmse = (diff / norm.max(1e-30)).sqrt();
-    eprintln!("{model}: relative RMSE {rmse:e}, {differing} of {} pixels differ by > 5 %", a.len());
+    eprintln!(
+        "{model}: relative RMSE {rmse:e}, {differing} of {} pixels differ by > 5 %",
+        a.len()
+    );
     // Quantised normals (10 bits) shift shading by well under a percent; silhouettes move by
     // under a quantisation step, so only the odd edge pixel differs.
     assert!(rmse < 0.02, "{model}: relative RMSE {rmse}");
-    assert!(differing * 100 <= a.len(), "{model}: {differing} pixels differ");
+    assert!(
+        differing * 100 <= a.len(),
+        "{model}: {differing} pixels differ"
+    );
 }
 
 #[test]
@@ -187,15 +201,21 @@ fn a_corrupted_draco_stream_is_one_clean_error() {
     let original = std::fs::read(here("Duck-draco.glb")).unwrap();
     let (json, bin) = chunks(&original);
     let doc: serde_json::Value = serde_json::from_slice(&json).unwrap();
-    let view = doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]
-        ["bufferView"]
-        .as_u64()
-        .unwrap() as usize;
+    let view =
+        doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"]
+            .as_u64()
+            .unwrap() as usize;
     let offset = doc["bufferViews"][view]["byteOffset"].as_u64().unwrap_or(0) as usize;
     let length = doc["bufferViews"][view]["byteLength"].as_u64().unwrap() as usize;
     let mut refused = 0;
     // Damage inside the stream: its header, its connectivity, its attributes; and cut short.
-    for (at, value) in [(0, 0u8), (8, 0xff), (20, 0x55), (length / 3, 0xff), (length / 2, 0)] {
+    for (at, value) in [
+        (0, 0u8),
+        (8, 0xff),
+        (20, 0x55),
+        (length / 3, 0xff),
+        (length / 2, 0),
+    ] {
         let mut bin = bin.clone();
         bin[offset + at] = value;
         match load_bytes(&glb(&json, &bin), &LoadOptions::default()) {
@@ -210,8 +230,11 @@ fn a_corrupted_draco_stream_is_one_clean_error() {
     assert!(refused >= 2, "most damage is refused");
     let mut cut = doc.clone();
     cut["bufferViews"][view]["byteLength"] = (length / 2).into();
-    let message = load_bytes(&glb(cut.to_string().as_bytes(), &bin), &LoadOptions::default())
-        .expect_err("half a stream");
+    let message = load_bytes(
+        &glb(cut.to_string().as_bytes(), &bin),
+        &LoadOptions::default(),
+    )
+    .expect_err("half a stream");
     assert!(!message.contains('\n'), "{message}");
     assert!(
         message.contains("KHR_draco_mesh_compression") && message.contains("does not decode"),

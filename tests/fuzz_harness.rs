@@ -25,7 +25,9 @@ fn planted(input: &[u8]) -> Outcome {
     for (i, &want) in b"BUG!".iter().enumerate() {
         match payload.get(i) {
             Some(&b) if b == want => {}
-            Some(_) => return Outcome::Refused(format!("payload byte {i} is not what it should be")),
+            Some(_) => {
+                return Outcome::Refused(format!("payload byte {i} is not what it should be"));
+            }
             None => return Outcome::Refused("payload too short".into()),
         }
         if i == 3 {
@@ -64,8 +66,16 @@ fn the_engine_finds_a_planted_bug_within_a_bounded_number_of_executions() {
     let (executions, finding) = found.expect("the planted bug is found within the bound");
     eprintln!("planted bug found after {executions} executions");
     assert_eq!(finding.kind, "panic");
-    assert!(finding.message.contains("planted bug"), "{}", finding.message);
-    assert!(finding.input[5..].starts_with(b"BUG!"), "{:?}", finding.input);
+    assert!(
+        finding.message.contains("planted bug"),
+        "{}",
+        finding.message
+    );
+    assert!(
+        finding.input[5..].starts_with(b"BUG!"),
+        "{:?}",
+        finding.input
+    );
 }
 
 #[test]
@@ -94,7 +104,10 @@ fn without_feedback_the_same_budget_finds_nothing() {
         let input = fuzzer.next_input();
         found = matches!(fuzzer.execute(&input), Verdict::Finding(_));
     }
-    assert!(!found, "a blind search found four exact bytes within the bound");
+    assert!(
+        !found,
+        "a blind search found four exact bytes within the bound"
+    );
 }
 
 #[test]
@@ -122,7 +135,10 @@ fn bundles_split_into_the_files_they_joined() {
     let main = br#"{"asset":{"version":"2.0"}}"#;
     let joined = engine::bundle::join(
         main,
-        &[("a b.bin".to_string(), &[0, 1, 2][..]), ("t.png".to_string(), &[][..])],
+        &[
+            ("a b.bin".to_string(), &[0, 1, 2][..]),
+            ("t.png".to_string(), &[][..]),
+        ],
     );
     let (got, files) = engine::bundle::split(&joined);
     assert_eq!(got, main);

@@ -188,9 +188,8 @@ fn a_file_requiring_two_unsupported_extensions_names_both() {
     let message = fixture.load(rest).unwrap_err().to_string();
     assert!(!message.contains('\n'), "one line: {message}");
     assert!(
-        message.contains(
-            "extensions EXT_lights_image_based and KHR_materials_pbrSpecularGlossiness"
-        ),
+        message
+            .contains("extensions EXT_lights_image_based and KHR_materials_pbrSpecularGlossiness"),
         "{message}"
     );
     // The supported one is not listed as missing, and specular-glossiness comes with a way

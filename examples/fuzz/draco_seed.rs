@@ -79,9 +79,11 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
         }
     }
     // Google's encoder: NORMAL is attribute 0, POSITION 1 (selector bit 2 swaps them).
-    let box_glb = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/draco/Box-draco.glb");
+    let box_glb =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/draco/Box-draco.glb");
     if let Ok(glb) = std::fs::read(box_glb) {
-        let word = |i: usize| u32::from_le_bytes([glb[i], glb[i + 1], glb[i + 2], glb[i + 3]]) as usize;
+        let word =
+            |i: usize| u32::from_le_bytes([glb[i], glb[i + 1], glb[i + 2], glb[i + 3]]) as usize;
         let json_len = word(12);
         let bin = &glb[28 + json_len..];
         // The stream is the whole of buffer view 0 (130 bytes at offset 0, see the JSON).

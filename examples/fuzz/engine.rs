@@ -370,7 +370,9 @@ pub fn mutate_bytes(
             let mut word = [0u8; 4];
             word[..end - i].copy_from_slice(&input[i..end]);
             let step = rng.random_range(-16i32..=16);
-            let word = u32::from_le_bytes(word).wrapping_add_signed(step).to_le_bytes();
+            let word = u32::from_le_bytes(word)
+                .wrapping_add_signed(step)
+                .to_le_bytes();
             input[i..end].copy_from_slice(&word[..end - i]);
         }
         6 if len > 0 => {
@@ -381,7 +383,11 @@ pub fn mutate_bytes(
         }
         7 => {
             // Insert random bytes.
-            let i = if len == 0 { 0 } else { rng.random_range(0..=len) };
+            let i = if len == 0 {
+                0
+            } else {
+                rng.random_range(0..=len)
+            };
             let n = rng.random_range(1..=16);
             let bytes: Vec<u8> = (0..n).map(|_| rng.random()).collect();
             input.splice(i..i, bytes);
@@ -398,14 +404,22 @@ pub fn mutate_bytes(
         }
         10 if !other.is_empty() => {
             // Splice: our prefix, the other's suffix.
-            let cut = if len == 0 { 0 } else { rng.random_range(0..len) };
+            let cut = if len == 0 {
+                0
+            } else {
+                rng.random_range(0..len)
+            };
             let from = rng.random_range(0..other.len());
             input.truncate(cut);
             input.extend_from_slice(&other[from..]);
         }
         11 | 12 if !dictionary.is_empty() => {
             let token = dictionary[rng.random_range(0..dictionary.len())];
-            let i = if len == 0 { 0 } else { rng.random_range(0..=len) };
+            let i = if len == 0 {
+                0
+            } else {
+                rng.random_range(0..=len)
+            };
             if rng.random_bool(0.5) || i + token.len() > len {
                 input.splice(i..i, token.iter().copied());
             } else {
@@ -445,7 +459,11 @@ fn replace_number(input: &mut Vec<u8>, rng: &mut impl RngCore) {
 /// Duplicates one line of a text input (a repeated key, table or array entry).
 fn duplicate_line(input: &mut Vec<u8>, rng: &mut impl RngCore) {
     let starts: Vec<usize> = std::iter::once(0)
-        .chain((0..input.len()).filter(|&i| input[i] == b'\n').map(|i| i + 1))
+        .chain(
+            (0..input.len())
+                .filter(|&i| input[i] == b'\n')
+                .map(|i| i + 1),
+        )
         .filter(|&i| i < input.len())
         .collect();
     if starts.is_empty() {

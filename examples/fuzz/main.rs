@@ -26,8 +26,8 @@
 mod mutate;
 
 mod alloc;
-mod engine;
 mod draco_seed;
+mod engine;
 mod seeds;
 mod targets;
 
@@ -72,9 +72,7 @@ fn parse_settings(args: &[String]) -> Result<Settings, String> {
     let mut settings = Settings::default();
     let mut it = args.iter();
     while let Some(flag) = it.next() {
-        let value = it
-            .next()
-            .ok_or_else(|| format!("{flag} needs a value"))?;
+        let value = it.next().ok_or_else(|| format!("{flag} needs a value"))?;
         let number = || {
             value
                 .parse::<f64>()
@@ -114,7 +112,10 @@ fn main() -> std::process::ExitCode {
                 true
             })
         }
-        _ => Err("usage: fuzz list | run TARGET|all [options] | replay TARGET FILE... | seeds [DIR]".into()),
+        _ => Err(
+            "usage: fuzz list | run TARGET|all [options] | replay TARGET FILE... | seeds [DIR]"
+                .into(),
+        ),
     };
     match result {
         Ok(true) => std::process::ExitCode::SUCCESS,
@@ -210,6 +211,7 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
     let start = Instant::now();
     let mut report = Report::default();
     let mut restart = 0u64;
+    let mut last_note = Instant::now();
     loop {
         let left = settings.seconds - start.elapsed().as_secs_f64();
         let executions_left = settings.executions.saturating_sub(report.executions);
@@ -238,22 +240,47 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
         let out_of_memory = std::thread::spawn(move || {
             let mut seen = false;
             if let Some(stderr) = stderr {
-                for line in std::io::BufReader::new(stderr).lines().map_while(Result::ok) {
+                for line in std::io::BufReader::new(stderr)
+                    .lines()
+                    .map_while(Result::ok)
+                {
                     seen |= line.starts_with("memory allocation of");
                     eprintln!("{line}");
                 }
             }
             seen
         });
-        let (mut executions, mut findings, mut accepted, mut saved) = (0u64, 0u64, 0u64, Vec::new());
+        let (mut executions, mut findings, mut accepted, mut saved) =
+            (0u64, 0u64, 0u64, Vec::new());
         if let Some(stdout) = child.stdout.take() {
-            for line in std::io::BufReader::new(stdout).lines().map_while(Result::ok) {
+            for line in std::io::BufReader::new(stdout)
+                .lines()
+                .map_while(Result::ok)
+            {
                 let mut words = line.split_whitespace();
                 match words.next() {
                     Some("progress" | "done") => {
-                        executions = words.next().and_then(|w| w.parse().ok()).unwrap_or(executions);
-                        findings = words.next().and_then(|w| w.parse().ok()).unwrap_or(findings);
-                        accepted = words.next().and_then(|w| w.parse().ok()).unwrap_or(accepted);
+                        executions = words
+                            .next()
+                            .and_then(|w| w.parse().ok())
+                            .unwrap_or(executions);
+                        if last_note.elapsed() >= Duration::from_secs(60) {
+                            last_note = Instant::now();
+                            println!(
+                                "fuzz: {}: {} executions so far ({:.0} s)",
+                                target.name,
+                                report.executions + executions,
+                                start.elapsed().as_secs_f64()
+                            );
+                        }
+                        findings = words
+                            .next()
+                            .and_then(|w| w.parse().ok())
+                            .unwrap_or(findings);
+                        accepted = words
+                            .next()
+                            .and_then(|w| w.parse().ok())
+                            .unwrap_or(accepted);
                     }
                     Some("saved") => saved.push(PathBuf::from(line["saved ".len()..].trim())),
                     _ => println!("{line}"),
@@ -276,9 +303,14 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
         let kind = death_kind(&status, out_of_memory);
         match std::fs::read(&in_progress) {
             Ok(input) => {
-                let why = format!("the worker died: {kind} ({status}) after {executions} executions");
+                let why =
+                    format!("the worker died: {kind} ({status}) after {executions} executions");
                 if let Some(file) = save(&dir, kind, &why, &input) {
-                    eprintln!("fuzz: {}: {why}; input kept in {}", target.name, file.display());
+                    eprintln!(
+                        "fuzz: {}: {why}; input kept in {}",
+                        target.name,
+                        file.display()
+                    );
                     report.saved.push(file);
                 }
                 let _ = std::fs::remove_file(&in_progress);
@@ -309,7 +341,11 @@ fn death_kind(status: &std::process::ExitStatus, out_of_memory: bool) -> &'stati
 
 #[cfg(not(unix))]
 fn death_kind(status: &std::process::ExitStatus, _: bool) -> &'static str {
-    if status.code() == Some(HANG_EXIT) { "hang" } else { "exit" }
+    if status.code() == Some(HANG_EXIT) {
+        "hang"
+    } else {
+        "exit"
+    }
 }
 
 /// Saves a finding once per distinct message: `KIND-HASH.bin` and `.txt`. Returns the path
@@ -342,7 +378,8 @@ fn watchdog(epoch: Instant, timeout: Duration) {
             let now = epoch.elapsed().as_millis() as u64;
             if now.saturating_sub(started) > timeout.as_millis() as u64 {
                 // No formatting: the allocator may be at its cap.
-                let _ = std::io::stderr().write_all(b"fuzz: an execution ran past the time limit\n");
+                let _ =
+                    std::io::stderr().write_all(b"fuzz: an execution ran past the time limit\n");
                 std::process::exit(HANG_EXIT);
             }
         }
@@ -371,7 +408,10 @@ fn worker(args: &[String]) -> Result<bool, String> {
     while epoch.elapsed() < budget && fuzzer.executions < settings.executions {
         let input = fuzzer.next_input();
         write_in_progress(&in_progress, &input);
-        STARTED_MS.store((epoch.elapsed().as_millis() as u64).max(1), Ordering::Relaxed);
+        STARTED_MS.store(
+            (epoch.elapsed().as_millis() as u64).max(1),
+            Ordering::Relaxed,
+        );
         alloc::arm(cap);
         let verdict = fuzzer.execute(&input);
         alloc::disarm();

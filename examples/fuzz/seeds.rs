@@ -47,7 +47,10 @@ pub fn shared_extras(target: &str, max_len: usize) -> Vec<Vec<u8>> {
             // The Draco test files (Google's encoder).
             let draco = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/draco");
             collect(&draco, &["glb"], max_len, &mut out);
-            for seed in super::mutate::seeds(&[shared.join("khronos"), shared.join("scenes")], max_len as u64) {
+            for seed in super::mutate::seeds(
+                &[shared.join("khronos"), shared.join("scenes")],
+                max_len as u64,
+            ) {
                 if seed.name.ends_with(".glb") {
                     out.push(seed.bytes);
                     continue;
@@ -68,8 +71,10 @@ pub fn shared_extras(target: &str, max_len: usize) -> Vec<Vec<u8>> {
                         files.push((uri.to_string(), bytes));
                     }
                 }
-                let parts: Vec<(String, &[u8])> =
-                    files.iter().map(|(n, b)| (n.clone(), b.as_slice())).collect();
+                let parts: Vec<(String, &[u8])> = files
+                    .iter()
+                    .map(|(n, b)| (n.clone(), b.as_slice()))
+                    .collect();
                 let joined = bundle::join(&seed.bytes, &parts);
                 if joined.len() <= max_len {
                     out.push(joined);
@@ -123,7 +128,8 @@ impl Glb {
         while self.bin.len() % 4 != 0 {
             self.bin.push(0);
         }
-        let mut view = json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
+        let mut view =
+            json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
         if let Some(stride) = stride {
             view["byteStride"] = stride.into();
         }
@@ -191,7 +197,11 @@ fn rgba(size: u32, alpha: bool) -> Vec<u8> {
                 (x * 255 / size.max(1)) as u8,
                 (y * 255 / size.max(1)) as u8,
                 if (x + y) % 2 == 0 { 200 } else { 40 },
-                if alpha { (255 - x * 200 / size.max(1)) as u8 } else { 255 },
+                if alpha {
+                    (255 - x * 200 / size.max(1)) as u8
+                } else {
+                    255
+                },
             ]);
         }
     }
@@ -261,7 +271,12 @@ fn gltf_seeds() -> Vec<(String, Vec<u8>)> {
     let times = g.floats(&[0., 1.], "SCALAR");
     let rot = g.floats(&[0., 0., 0., 1., 0., 0.7071, 0., 0.7071], "VEC4");
     let trans = g.floats(&[0., 0., 0., 1., 0., 0.], "VEC3");
-    let cubic = g.floats(&[0., 0., 0., 1., 1., 1., 0., 0., 0., 0., 0., 0., 2., 2., 2., 0., 0., 0.], "VEC3");
+    let cubic = g.floats(
+        &[
+            0., 0., 0., 1., 1., 1., 0., 0., 0., 0., 0., 0., 2., 2., 2., 0., 0., 0.,
+        ],
+        "VEC3",
+    );
     let weights = g.floats(&[0., 1.], "SCALAR");
     seeds.push((
         "animated-morph.glb".to_string(),
@@ -289,10 +304,17 @@ fn gltf_seeds() -> Vec<(String, Vec<u8>)> {
     let idx = g.indices(&QUAD_INDICES);
     let joints_bytes: Vec<u8> = [0u8, 1, 0, 0].repeat(4);
     let jv = g.view(&joints_bytes, None);
-    g.accessors.push(json!({"bufferView": jv, "componentType": 5121, "count": 4, "type": "VEC4"}));
+    g.accessors
+        .push(json!({"bufferView": jv, "componentType": 5121, "count": 4, "type": "VEC4"}));
     let joints = g.accessors.len() - 1;
     let wts = g.floats(&[0.5, 0.5, 0., 0.].repeat(4), "VEC4");
-    let ibm = g.floats(&[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1.].repeat(2), "MAT4");
+    let ibm = g.floats(
+        &[
+            1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1.,
+        ]
+        .repeat(2),
+        "MAT4",
+    );
     let inst = g.floats(&[0., 0., 0., 3., 0., 0.], "VEC3");
     seeds.push((
         "skin-instancing.glb".to_string(),
@@ -316,10 +338,17 @@ fn gltf_seeds() -> Vec<(String, Vec<u8>)> {
     let mut g = Glb::default();
     let pos = g.floats(&QUAD_POSITIONS, "VEC3");
     let sparse_idx = g.view(&[1u8, 0, 2, 0], None);
-    let sparse_val = g.view(&[0f32, 0., 2., 0., 0., 2.].iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<_>>(), None);
+    let sparse_val = g.view(
+        &[0f32, 0., 2., 0., 0., 2.]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect::<Vec<_>>(),
+        None,
+    );
     g.accessors[pos]["sparse"] = json!({"count": 2, "indices": {"bufferView": sparse_idx, "componentType": 5123},
         "values": {"bufferView": sparse_val}});
-    g.accessors.push(json!({"componentType": 5126, "count": 4, "type": "VEC3",
+    g.accessors
+        .push(json!({"componentType": 5126, "count": 4, "type": "VEC3",
         "sparse": {"count": 2, "indices": {"bufferView": sparse_idx, "componentType": 5123},
         "values": {"bufferView": sparse_val}}}));
     let viewless = g.accessors.len() - 1;
@@ -341,8 +370,10 @@ fn gltf_seeds() -> Vec<(String, Vec<u8>)> {
         .flat_map(|v| v.to_le_bytes())
         .collect();
     let sv = g.view(&shorts, Some(8));
-    g.accessors.push(json!({"bufferView": sv, "componentType": 5122, "normalized": true, "count": 3,
-        "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}));
+    g.accessors.push(
+        json!({"bufferView": sv, "componentType": 5122, "normalized": true, "count": 3,
+        "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}),
+    );
     let bv = g.view(&[0u8, 0, 255, 0, 0, 255, 0, 0], Some(4));
     g.accessors.push(json!({"bufferView": bv, "componentType": 5121, "normalized": true, "count": 2, "type": "VEC2"}));
     seeds.push((
@@ -392,7 +423,10 @@ fn gltf_seeds() -> Vec<(String, Vec<u8>)> {
         "external-files.bundle".to_string(),
         bundle::join(
             &doc("quad%20data.bin", "./tex.png"),
-            &[("quad data.bin".to_string(), &bin[..]), ("tex.png".to_string(), &image[..])],
+            &[
+                ("quad data.bin".to_string(), &bin[..]),
+                ("tex.png".to_string(), &image[..]),
+            ],
         ),
     ));
     use base64::Engine as _;
@@ -441,7 +475,12 @@ fn gltf_seeds() -> Vec<(String, Vec<u8>)> {
 fn webp(size: u32) -> Vec<u8> {
     let mut out = Vec::new();
     let encoder = image::codecs::webp::WebPEncoder::new_lossless(&mut out);
-    let _ = encoder.encode(&rgba(size, true), size, size, image::ExtendedColorType::Rgba8);
+    let _ = encoder.encode(
+        &rgba(size, true),
+        size,
+        size,
+        image::ExtendedColorType::Rgba8,
+    );
     out
 }
 
@@ -513,11 +552,17 @@ fn meshopt_input(mode: u8, filter: u8, stride: u8, count: u32, data: &[u8]) -> V
 
 #[cfg(feature = "meshopt")]
 fn meshopt_seeds() -> Vec<(String, Vec<u8>)> {
-    let positions: Vec<[f32; 3]> = QUAD_POSITIONS.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let positions: Vec<[f32; 3]> = QUAD_POSITIONS
+        .chunks(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
     let indices: Vec<u32> = QUAD_INDICES.iter().map(|&i| u32::from(i)).collect();
     let mut seeds = Vec::new();
     if let Ok(data) = meshopt::encode_vertex_buffer(&positions) {
-        seeds.push(("attributes-12.bin".into(), meshopt_input(0, 0, 12, 4, &data)));
+        seeds.push((
+            "attributes-12.bin".into(),
+            meshopt_input(0, 0, 12, 4, &data),
+        ));
     }
     let unit: Vec<[f32; 4]> = vec![[0., 0., 1., 0.]; 4];
     let oct: Vec<[i8; 4]> = meshopt::encode_filter_oct(&unit, 8);
@@ -528,9 +573,13 @@ fn meshopt_seeds() -> Vec<(String, Vec<u8>)> {
     if let Ok(data) = meshopt::encode_vertex_buffer(&quat) {
         seeds.push(("quaternion-8.bin".into(), meshopt_input(0, 2, 8, 4, &data)));
     }
-    let exp: Vec<[u32; 3]> = meshopt::encode_filter_exp::<3>(&positions, 15, meshopt::EncodeExpMode::Separate);
+    let exp: Vec<[u32; 3]> =
+        meshopt::encode_filter_exp::<3>(&positions, 15, meshopt::EncodeExpMode::Separate);
     if let Ok(data) = meshopt::encode_vertex_buffer(&exp) {
-        seeds.push(("exponential-12.bin".into(), meshopt_input(0, 3, 12, 4, &data)));
+        seeds.push((
+            "exponential-12.bin".into(),
+            meshopt_input(0, 3, 12, 4, &data),
+        ));
     }
     if let Ok(data) = meshopt::encode_index_buffer(&indices, 4) {
         seeds.push(("triangles-4.bin".into(), meshopt_input(1, 0, 4, 6, &data)));
@@ -549,7 +598,10 @@ fn meshopt_seeds() -> Vec<(String, Vec<u8>)> {
 
 #[cfg(feature = "meshopt")]
 fn meshopt_glb() -> Option<Vec<u8>> {
-    let positions: Vec<[f32; 3]> = QUAD_POSITIONS.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let positions: Vec<[f32; 3]> = QUAD_POSITIONS
+        .chunks(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
     let indices: Vec<u32> = QUAD_INDICES.iter().map(|&i| u32::from(i)).collect();
     let vertices = meshopt::encode_vertex_buffer(&positions).ok()?;
     let triangles = meshopt::encode_index_buffer(&indices, 4).ok()?;
@@ -569,7 +621,10 @@ fn meshopt_glb() -> Option<Vec<u8>> {
         }
         view
     };
-    g.views = vec![compressed(v, 12, 4, "ATTRIBUTES"), compressed(t, 4, 6, "TRIANGLES")];
+    g.views = vec![
+        compressed(v, 12, 4, "ATTRIBUTES"),
+        compressed(t, 4, 6, "TRIANGLES"),
+    ];
     g.accessors = vec![
         json!({"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]}),
         json!({"bufferView": 1, "componentType": 5125, "count": 6, "type": "SCALAR"}),
@@ -609,21 +664,33 @@ fn split_glb(glb: &[u8]) -> Option<(Vec<u8>, Vec<u8>)> {
 }
 
 fn image_seeds() -> Vec<(String, Vec<u8>)> {
-    let mut seeds = vec![("rgba-4.png".to_string(), png(4, true)), ("webp-lossless-4.webp".into(), webp(4))];
+    let mut seeds = vec![
+        ("rgba-4.png".to_string(), png(4, true)),
+        ("webp-lossless-4.webp".into(), webp(4)),
+    ];
     let encode = |img: image::DynamicImage, format| {
         let mut out = Vec::new();
         let _ = img.write_to(&mut std::io::Cursor::new(&mut out), format);
         out
     };
-    let grey = image::DynamicImage::ImageLuma8(image::GrayImage::from_fn(3, 3, |x, y| image::Luma([(x * 80 + y) as u8])));
-    seeds.push(("grey-3.png".into(), encode(grey.clone(), image::ImageFormat::Png)));
+    let grey = image::DynamicImage::ImageLuma8(image::GrayImage::from_fn(3, 3, |x, y| {
+        image::Luma([(x * 80 + y) as u8])
+    }));
+    seeds.push((
+        "grey-3.png".into(),
+        encode(grey.clone(), image::ImageFormat::Png),
+    ));
     let rgb16 = image::DynamicImage::ImageRgb16(image::ImageBuffer::from_fn(2, 2, |x, y| {
         image::Rgb([(x * 30000) as u16, (y * 30000) as u16, 1000])
     }));
     seeds.push(("rgb16-2.png".into(), encode(rgb16, image::ImageFormat::Png)));
-    let la = image::DynamicImage::ImageLumaA8(image::ImageBuffer::from_fn(2, 3, |x, y| image::LumaA([(x * 100) as u8, (y * 100) as u8])));
+    let la = image::DynamicImage::ImageLumaA8(image::ImageBuffer::from_fn(2, 3, |x, y| {
+        image::LumaA([(x * 100) as u8, (y * 100) as u8])
+    }));
     seeds.push(("grey-alpha.png".into(), encode(la, image::ImageFormat::Png)));
-    let rgb = image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(16, 8, |x, y| image::Rgb([(x * 16) as u8, (y * 32) as u8, 128])));
+    let rgb = image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(16, 8, |x, y| {
+        image::Rgb([(x * 16) as u8, (y * 32) as u8, 128])
+    }));
     seeds.push(("rgb-16x8.jpg".into(), encode(rgb, image::ImageFormat::Jpeg)));
     seeds.push(("grey-3.jpg".into(), encode(grey, image::ImageFormat::Jpeg)));
     seeds
@@ -636,7 +703,11 @@ fn env_seeds() -> Vec<(String, Vec<u8>)> {
             .map(|i| image::Rgb([i as f32 * 0.25, 1.0, 100.0 / (1 + i) as f32]))
             .collect();
         let mut out = Vec::new();
-        let _ = image::codecs::hdr::HdrEncoder::new(&mut out).encode(&pixels, width as usize, height as usize);
+        let _ = image::codecs::hdr::HdrEncoder::new(&mut out).encode(
+            &pixels,
+            width as usize,
+            height as usize,
+        );
         seeds.push((name.to_string(), out));
     }
     use exr::prelude::*;
@@ -660,12 +731,20 @@ fn env_seeds() -> Vec<(String, Vec<u8>)> {
             });
             let encoding = Encoding {
                 compression,
-                blocks: if tiled { Blocks::Tiles(Vec2(4, 4)) } else { Blocks::ScanLines },
+                blocks: if tiled {
+                    Blocks::Tiles(Vec2(4, 4))
+                } else {
+                    Blocks::ScanLines
+                },
                 line_order: LineOrder::Increasing,
             };
             let layer = Layer::new(size, LayerAttributes::named("rgba"), encoding, channels);
             let mut out = std::io::Cursor::new(Vec::new());
-            if Image::from_layer(layer).write().to_buffered(&mut out).is_ok() {
+            if Image::from_layer(layer)
+                .write()
+                .to_buffered(&mut out)
+                .is_ok()
+            {
                 let suffix = if tiled { "-tiled" } else { "" };
                 seeds.push((format!("{name}{suffix}-8x4.exr"), out.into_inner()));
             }

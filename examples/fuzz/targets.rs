@@ -62,7 +62,11 @@ static TARGETS: &[Target] = &[
         about: "KTX2 containers and their Basis Universal payloads",
         execute: ktx2,
         shape: Shape::Binary,
-        dictionary: &[b"\xabKTX 20\xbb\r\n\x1a\n", b"KTXorientation\0rd\0", b"KTXswizzle"],
+        dictionary: &[
+            b"\xabKTX 20\xbb\r\n\x1a\n",
+            b"KTXorientation\0rd\0",
+            b"KTXswizzle",
+        ],
         max_len: 16 << 10,
     },
     Target {
@@ -79,9 +83,24 @@ static TARGETS: &[Target] = &[
         execute: image,
         shape: Shape::Binary,
         dictionary: &[
-            b"IHDR", b"IDAT", b"IEND", b"PLTE", b"tRNS", b"acTL", b"fcTL", b"\xff\xd8\xff",
-            b"\xff\xc0", b"\xff\xc4", b"\xff\xda", b"RIFF", b"WEBPVP8L", b"WEBPVP8 ", b"VP8X",
-            b"ALPH", b"ANIM", b"ANMF",
+            b"IHDR",
+            b"IDAT",
+            b"IEND",
+            b"PLTE",
+            b"tRNS",
+            b"acTL",
+            b"fcTL",
+            b"\xff\xd8\xff",
+            b"\xff\xc0",
+            b"\xff\xc4",
+            b"\xff\xda",
+            b"RIFF",
+            b"WEBPVP8L",
+            b"WEBPVP8 ",
+            b"VP8X",
+            b"ALPH",
+            b"ANIM",
+            b"ANMF",
         ],
         max_len: 16 << 10,
     },
@@ -91,10 +110,23 @@ static TARGETS: &[Target] = &[
         execute: env,
         shape: Shape::Binary,
         dictionary: &[
-            b"#?RADIANCE\n", b"FORMAT=32-bit_rle_rgbe\n", b"-Y ", b" +X ", b"\x02\x02",
-            b"channels\0chlist\0", b"compression\0compression\0", b"dataWindow\0box2i\0",
-            b"displayWindow\0box2i\0", b"lineOrder\0lineOrder\0", b"tiles\0tiledesc\0",
-            b"type\0string\0", b"multipart", b"R\0", b"G\0", b"B\0", b"A\0",
+            b"#?RADIANCE\n",
+            b"FORMAT=32-bit_rle_rgbe\n",
+            b"-Y ",
+            b" +X ",
+            b"\x02\x02",
+            b"channels\0chlist\0",
+            b"compression\0compression\0",
+            b"dataWindow\0box2i\0",
+            b"displayWindow\0box2i\0",
+            b"lineOrder\0lineOrder\0",
+            b"tiles\0tiledesc\0",
+            b"type\0string\0",
+            b"multipart",
+            b"R\0",
+            b"G\0",
+            b"B\0",
+            b"A\0",
         ],
         max_len: 16 << 10,
     },
@@ -313,7 +345,9 @@ pub fn meshopt(input: &[u8]) -> Outcome {
     let mode = MESHOPT_MODES[usize::from(header[0]) % MESHOPT_MODES.len()];
     let filter = MESHOPT_FILTERS[usize::from(header[1]) % MESHOPT_FILTERS.len()];
     let stride = u64::from(header[2]);
-    let count = u64::from(u32::from_le_bytes([header[3], header[4], header[5], header[6]]));
+    let count = u64::from(u32::from_le_bytes([
+        header[3], header[4], header[5], header[6],
+    ]));
     let decoded = count.saturating_mul(stride);
     // Four vertices after the compressed bytes, for index modes.
     let mut bin = data.to_vec();

@@ -59,6 +59,7 @@ pub fn render_batch<'py>(
                         None,
                         None,
                         glint::scene::gltf::DEFAULT_MAX_TEXTURE_PIXELS,
+                        glint::scene::gltf::DEFAULT_MAX_GEOMETRY_BYTES,
                     )
                     .map_err(|e| glint_error(format!("job {index}: {e}")))?;
                     scenes.push(loaded.prepared.clone());

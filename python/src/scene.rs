@@ -5,7 +5,9 @@ use glint::accel::BackendKind;
 use glint::render::job::{self, Job, SceneSource};
 use glint::render::{JobError, PreparedScene};
 use glint::scene::Projection;
-use glint::scene::gltf::{DEFAULT_MAX_TEXTURE_PIXELS, LoadOptions, SceneSelection};
+use glint::scene::gltf::{
+    DEFAULT_MAX_GEOMETRY_BYTES, DEFAULT_MAX_TEXTURE_PIXELS, LoadOptions, SceneSelection,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -90,11 +92,13 @@ impl Camera {
 /// backend: "embree" (default when compiled in) or "bvh". scene: which of the file's scenes
 /// (glTF `scenes` index). time: sample animations at this many seconds. asset_root: every
 /// file the glTF refers to must resolve inside this folder. max_texture_pixels: the most
-/// texels one texture may have.
+/// texels one texture may have. max_geometry_bytes: the most bytes of geometry the scene may
+/// decode and build (Draco and meshopt streams, vertices and indices), checked before
+/// allocating.
 ///
 /// Raises glint.GlintError with glint's message when the file cannot be loaded.
 #[pyfunction]
-#[pyo3(signature = (path=None, *, backend=None, scene=None, time=None, asset_root=None, max_texture_pixels=DEFAULT_MAX_TEXTURE_PIXELS))]
+#[pyo3(signature = (path=None, *, backend=None, scene=None, time=None, asset_root=None, max_texture_pixels=DEFAULT_MAX_TEXTURE_PIXELS, max_geometry_bytes=DEFAULT_MAX_GEOMETRY_BYTES))]
 pub fn load(
     py: Python<'_>,
     path: Option<PathBuf>,
@@ -103,6 +107,7 @@ pub fn load(
     time: Option<f32>,
     asset_root: Option<PathBuf>,
     max_texture_pixels: u64,
+    max_geometry_bytes: u64,
 ) -> PyResult<Scene> {
     let backend = match backend {
         Some(name) => name
@@ -118,7 +123,7 @@ pub fn load(
     let options = LoadOptions {
         asset_root,
         max_texture_pixels,
-        ..Default::default()
+        max_geometry_bytes,
     };
     let doing = format!("loading {}", source.label());
     let prepared = interrupt::run_detached(py, &doing, |_| {

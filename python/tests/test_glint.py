@@ -190,6 +190,15 @@ def test_missing_file_raises_with_glints_message(tmp_path):
         glint.load(missing)
 
 
+def test_the_loader_budgets_are_keyword_arguments(quads_path):
+    """max_texture_pixels and max_geometry_bytes bound what a load may allocate; a scene over
+    the geometry budget is refused before its vertices are built, naming the budget."""
+    glint.load(quads_path, max_geometry_bytes=1 << 20, max_texture_pixels=1 << 10)
+    with pytest.raises(glint.GlintError, match="geometry") as err:
+        glint.load(quads_path, max_geometry_bytes=100)
+    assert "two_quads.gltf" in str(err.value) and "\n" not in str(err.value)
+
+
 def test_bad_camera_index_raises_with_glints_message(quads_path):
     with pytest.raises(glint.GlintError, match=r"camera.*5|5.*camera") as err:
         glint.load(quads_path).render(width=4, height=2, spp=1, camera=5)

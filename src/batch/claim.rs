@@ -158,7 +158,8 @@ fn flock_unsupported(e: &std::io::Error) -> bool {
     /// ENOLCK, ENOSYS, EOPNOTSUPP (= ENOTSUP) on Linux.
     const NO_LOCKS: [i32; 3] = [37, 38, 95];
     e.kind() == std::io::ErrorKind::Unsupported
-        || e.raw_os_error().is_some_and(|code| NO_LOCKS.contains(&code))
+        || e.raw_os_error()
+            .is_some_and(|code| NO_LOCKS.contains(&code))
 }
 
 /// The test hook: debug builds with `GLINT_TEST_NO_FLOCK` set treat `flock` as unsupported.

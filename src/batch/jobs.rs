@@ -421,8 +421,7 @@ impl Context<'_> {
                     let single = match cached {
                         Some(single) => single,
                         None => {
-                            let single =
-                                option_args(key, value).map_err(|m| key_error(key, m))?;
+                            let single = option_args(key, value).map_err(|m| key_error(key, m))?;
                             // Parsed alone first, so that a bad value is blamed on its key.
                             JobCli::try_parse_from(&single)
                                 .map_err(|e| key_error(key, clap_message(&e)))?;

@@ -318,8 +318,8 @@ fn claim_and_render(
     }
 }
 
-/// Jobs grouped by (canonical scene, backend, scene index, animation time, asset root and
-/// texture budget), groups in order of first appearance: jobs share a load only if they load
+/// Jobs grouped by (canonical scene, backend, scene index, animation time, asset root,
+/// texture and geometry budgets), groups in order of first appearance: jobs share a load only if they load
 /// the same scene at the same time under the same rules.
 fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
     type Key = (
@@ -328,6 +328,7 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
         Option<usize>,
         Option<u32>,
         Option<PathBuf>,
+        u64,
         u64,
     );
     let mut keys: Vec<Key> = Vec::new();
@@ -341,6 +342,7 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
             job.args.time.map(f32::to_bits),
             job.args.asset_root.clone(),
             job.args.max_texture_pixels,
+            job.args.max_geometry_bytes,
         );
         match keys.iter().position(|k| *k == key) {
             Some(i) => groups[i].push(job),

@@ -164,6 +164,11 @@ pub struct RenderArgs {
     /// of a scene's textures together may have four times as many.
     #[arg(long, value_name = "N", default_value_t = crate::scene::gltf::DEFAULT_MAX_TEXTURE_PIXELS)]
     pub max_texture_pixels: u64,
+    /// Most bytes of geometry a scene may decode and build (compressed meshopt views and
+    /// Draco primitives, and every primitive's vertices and indices), checked from the
+    /// declared counts before allocating.
+    #[arg(long, value_name = "BYTES", default_value_t = crate::scene::gltf::DEFAULT_MAX_GEOMETRY_BYTES)]
+    pub max_geometry_bytes: u64,
 }
 
 impl RenderArgs {
@@ -172,7 +177,7 @@ impl RenderArgs {
         crate::scene::gltf::LoadOptions {
             asset_root: self.asset_root.clone(),
             max_texture_pixels: self.max_texture_pixels,
-            ..Default::default()
+            max_geometry_bytes: self.max_geometry_bytes,
         }
     }
 

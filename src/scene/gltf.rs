@@ -16,8 +16,10 @@
 //!   the glTF spec defines them), indexed or not.
 //! - Attributes POSITION, NORMAL, TANGENT, TEXCOORD_0, TEXCOORD_1 (float or normalized
 //!   integers), COLOR_0 (RGB or RGBA, float or normalized integers; linear). Sparse
-//!   accessors. KHR_mesh_quantization's integer layouts (`quantization`), and
-//!   EXT_meshopt_compression's compressed buffer views, decoded at load (`meshopt`).
+//!   accessors. KHR_mesh_quantization's integer layouts (`quantization`),
+//!   EXT_meshopt_compression's compressed buffer views (`meshopt`) and
+//!   KHR_draco_mesh_compression's compressed primitives (`draco`), decoded at load under the
+//!   geometry budget ([`LoadOptions::max_geometry_bytes`]).
 //! - Morph targets with the node's or mesh's default weights (`morph`); skins posed by their
 //!   joints (`skin`); animations sampled at [`SceneSelection::time`] (`animation`).
 //! - EXT_mesh_gpu_instancing, and meshes several nodes share (same mesh, same morph weights,
@@ -45,8 +47,8 @@
 //! - occlusionTexture, alphaMode / alphaCutoff,
 //!   texture minification filters, the camera's znear / zfar.
 //! - KHR_materials_* extensions other than emissive_strength, and every other extension:
-//!   a file that lists some as *required* is refused naming all of them (with advice for
-//!   Draco); one that merely uses them loads with a warning.
+//!   a file that lists some as *required* is refused naming all of them (with advice where
+//!   a converter exists); one that merely uses them loads with a warning.
 //! - POINTS, LINES, LINE_LOOP and LINE_STRIP primitives: skipped with a warning (one line
 //!   primitive should not make a whole scene unloadable).
 //! - TEXCOORD_2 and above, COLOR_1 and above.
@@ -385,11 +387,7 @@ fn load_bytes(
                         morph_weights: &drawn.weights,
                         skin: drawn.joints.as_deref(),
                     };
-                    geometry.charge(
-                        primitive_geometry_bytes(&primitive),
-                        &ctx.label,
-                        origin,
-                    )?;
+                    geometry.charge(primitive_geometry_bytes(&primitive), &ctx.label, origin)?;
                     if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
                         built.node = u32::try_from(node.node.index()).ok();
                         normal_texture::ensure_tangents(

@@ -143,7 +143,11 @@ fn read_owner(path: &Path) -> Option<Owner> {
 /// The claim's age: since its file was last touched.
 fn age(path: &Path) -> Option<Duration> {
     let modified = std::fs::metadata(path).ok()?.modified().ok()?;
-    Some(SystemTime::now().duration_since(modified).unwrap_or_default())
+    Some(
+        SystemTime::now()
+            .duration_since(modified)
+            .unwrap_or_default(),
+    )
 }
 
 /// Creates `path` with `O_EXCL` holding `owner`; `Ok(false)` when it exists.
@@ -233,7 +237,9 @@ mod tests {
     use super::*;
 
     fn dead_pid() -> u32 {
-        let mut child = std::process::Command::new("true").spawn().expect("run true");
+        let mut child = std::process::Command::new("true")
+            .spawn()
+            .expect("run true");
         let pid = child.id();
         child.wait().expect("wait");
         pid
@@ -260,7 +266,12 @@ mod tests {
         let policy = ClaimPolicy::default();
         let fresh = Duration::from_secs(1);
         // A live process of this host (this one): never stale.
-        assert!(!is_stale(Some(&other(&me)), Duration::from_secs(1 << 20), &me, &policy));
+        assert!(!is_stale(
+            Some(&other(&me)),
+            Duration::from_secs(1 << 20),
+            &me,
+            &policy
+        ));
         // A dead one: stale at once.
         let dead = Owner {
             pid: dead_pid(),
@@ -291,13 +302,23 @@ mod tests {
             steal_after: Some(Duration::from_secs(600)),
             ..policy
         };
-        assert!(!is_stale(Some(&remote), Duration::from_secs(300), &me, &steal));
+        assert!(!is_stale(
+            Some(&remote),
+            Duration::from_secs(300),
+            &me,
+            &steal
+        ));
         assert!(is_stale(Some(&remote), long, &me, &steal));
         let hasty = ClaimPolicy {
             steal_after: Some(Duration::from_secs(1)),
             ..policy
         };
-        assert!(!is_stale(Some(&remote), Duration::from_secs(60), &me, &hasty));
+        assert!(!is_stale(
+            Some(&remote),
+            Duration::from_secs(60),
+            &me,
+            &hasty
+        ));
         // Unreadable: only once old.
         assert!(!is_stale(None, fresh, &me, &policy));
         assert!(is_stale(None, MIN_STEAL_AGE, &me, &policy));
@@ -309,7 +330,10 @@ mod tests {
         let path = dir.path().join(".a.png.glint-excl-claim");
         let policy = ClaimPolicy::default();
         let held = try_claim(&path, &policy).unwrap().expect("free");
-        assert!(try_claim(&path, &policy).unwrap().is_none(), "held by a live process");
+        assert!(
+            try_claim(&path, &policy).unwrap().is_none(),
+            "held by a live process"
+        );
         held.release();
         assert!(!path.exists());
         // What a killed batch leaves: its claim, naming a process that is gone.
@@ -319,7 +343,9 @@ mod tests {
             ..other(&me)
         };
         std::fs::write(&path, dead.text()).unwrap();
-        let taken = try_claim(&path, &policy).unwrap().expect("a dead process's claim is stale");
+        let taken = try_claim(&path, &policy)
+            .unwrap()
+            .expect("a dead process's claim is stale");
         assert_eq!(read_owner(&path).unwrap().pid, std::process::id());
         taken.release();
         // Another host's claim stays, however old, without --steal-claims.
@@ -340,6 +366,9 @@ mod tests {
             steal_after: Some(Duration::from_secs(3600)),
             ..policy
         };
-        try_claim(&path, &steal).unwrap().expect("stolen past the age").release();
+        try_claim(&path, &steal)
+            .unwrap()
+            .expect("stolen past the age")
+            .release();
     }
 }

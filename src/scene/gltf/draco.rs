@@ -60,12 +60,20 @@ pub fn decode_primitives(
             };
             any = true;
             let what = format!("mesh {mesh_index} / primitive {primitive_index} ({EXTENSION})");
-            decode_one(root, mesh_index, primitive_index, value, buffers, origin, geometry)
-                .map_err(|problem| LoadError::Primitive {
-                    path: origin.file.to_path_buf(),
-                    primitive: what.clone(),
-                    problem,
-                })?;
+            decode_one(
+                root,
+                mesh_index,
+                primitive_index,
+                value,
+                buffers,
+                origin,
+                geometry,
+            )
+            .map_err(|problem| LoadError::Primitive {
+                path: origin.file.to_path_buf(),
+                primitive: what.clone(),
+                problem,
+            })?;
         }
     }
     if any {
@@ -205,12 +213,12 @@ fn decode_one(
     let buffer_index = root.buffers.len();
     let mut data = Vec::new();
     let new_accessor = |root: &mut json::Root,
-                            data: &mut Vec<u8>,
-                            template: Option<usize>,
-                            bytes: &[u8],
-                            count: usize,
-                            component_type,
-                            type_| {
+                        data: &mut Vec<u8>,
+                        template: Option<usize>,
+                        bytes: &[u8],
+                        count: usize,
+                        component_type,
+                        type_| {
         while data.len() % 4 != 0 {
             data.push(0);
         }
