@@ -11,9 +11,12 @@ use super::targets::MESHOPT_HEADER;
 use serde_json::{Value, json};
 use std::path::Path;
 
+/// Named seed files.
+type Seeds = Vec<(String, Vec<u8>)>;
+
 /// Writes every target's seeds under `dir` (replacing what is there); returns the count.
 pub fn write_all(dir: &Path) -> Result<usize, String> {
-    let sets: Vec<(&str, Vec<(String, Vec<u8>)>)> = vec![
+    let sets: Vec<(&str, Seeds)> = vec![
         ("gltf", gltf_seeds()),
         ("ktx2", ktx2_seeds()),
         ("meshopt", meshopt_seeds()),
@@ -125,7 +128,7 @@ struct Glb {
 impl Glb {
     /// Appends `bytes` as a buffer view (4-byte aligned); returns its index.
     fn view(&mut self, bytes: &[u8], stride: Option<usize>) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let mut view =
@@ -269,7 +272,19 @@ fn gltf_seeds() -> Vec<(String, Vec<u8>)> {
     let delta = g.floats(&[0., 0., 1., 0., 0., 1., 0., 0., 0., 0., 0., 0.], "VEC3");
     let idx = g.indices(&QUAD_INDICES);
     let times = g.floats(&[0., 1.], "SCALAR");
-    let rot = g.floats(&[0., 0., 0., 1., 0., 0.7071, 0., 0.7071], "VEC4");
+    let rot = g.floats(
+        &[
+            0.,
+            0.,
+            0.,
+            1.,
+            0.,
+            std::f32::consts::FRAC_1_SQRT_2,
+            0.,
+            std::f32::consts::FRAC_1_SQRT_2,
+        ],
+        "VEC4",
+    );
     let trans = g.floats(&[0., 0., 0., 1., 0., 0.], "VEC3");
     let cubic = g.floats(
         &[

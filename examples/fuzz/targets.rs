@@ -310,12 +310,13 @@ pub fn ktx2(input: &[u8]) -> Outcome {
     }
 }
 
-/// `image`: a PNG, JPEG or WebP (sniffed) decoded as a colour texture.
+/// `image`: a PNG, JPEG or WebP (sniffed) decoded as a colour texture. The decoder's message
+/// is what the loader puts in its texture error: on one line.
 pub fn image(input: &[u8]) -> Outcome {
     use glint::scene::texture_decode::{ColorSpace, decode_image};
     match decode_image(input, ColorSpace::Srgb, budgets::TEXTURE_PIXELS) {
         Ok(image) => Outcome::Accepted(format!("{}x{}", image.width, image.height)),
-        Err(err) => Outcome::Refused(err.to_string()),
+        Err(err) => Outcome::Refused(glint::scene::gltf::one_line(&err.to_string())),
     }
 }
 
@@ -351,7 +352,7 @@ pub fn meshopt(input: &[u8]) -> Outcome {
     let decoded = count.saturating_mul(stride);
     // Four vertices after the compressed bytes, for index modes.
     let mut bin = data.to_vec();
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let positions_at = bin.len();
@@ -413,15 +414,15 @@ pub fn meshopt(input: &[u8]) -> Outcome {
 }
 
 /// `draco`: a GLB whose one primitive is KHR_draco_mesh_compression over the input: the
-/// first byte picks the attributes the extension maps (POSITION; bit 0: + NORMAL; bit 1:
-/// + TEXCOORD_0 as id 2; bit 2: POSITION and NORMAL as ids 1 and 0), the rest is the Draco
-/// stream.
+/// first byte picks the attributes the extension maps (always POSITION; bit 0 adds NORMAL,
+/// bit 1 adds TEXCOORD_0 as id 2, bit 2 makes POSITION and NORMAL ids 1 and 0), the rest is
+/// the Draco stream.
 pub fn draco(input: &[u8]) -> Outcome {
     let Some((&which, data)) = input.split_first() else {
         return Outcome::Refused("empty".into());
     };
     let mut bin = data.to_vec();
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     // Bit 2 swaps the ids of POSITION and NORMAL (Google's encoder writes NORMAL first).

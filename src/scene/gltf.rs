@@ -88,7 +88,7 @@ mod unsupported;
 mod validate;
 mod webp;
 
-pub use error::LoadError;
+pub use error::{LoadError, one_line};
 pub use limits::{
     DEFAULT_MAX_GEOMETRY_BYTES, DEFAULT_MAX_TEXTURE_PIXELS, GEOMETRY_BYTES_PER_INDEX,
     GEOMETRY_BYTES_PER_VERTEX, LoadOptions, MAX_COORDINATE, MAX_EMISSION,

@@ -290,8 +290,9 @@ pub fn load_lights_file(path: &Path) -> Result<Vec<Light>, LightSpecError> {
 /// Parses the text of a lights file; `label` names it in errors.
 pub fn parse_lights_toml(text: &str, label: &str) -> Result<Vec<Light>, LightSpecError> {
     let file: LightsFile = toml::from_str(text).map_err(|err| {
-        // toml's message spans several lines (it quotes the source); keep one.
-        let message = err.message().to_string();
+        // toml's message spans several lines (it quotes the source); keep one. The message
+        // itself may hold the file's own line breaks (a bad value quoted back).
+        let message = crate::scene::gltf::one_line(err.message());
         let location = err
             .span()
             .map(|span| {

@@ -219,7 +219,7 @@ fn decode_one(
                         count: usize,
                         component_type,
                         type_| {
-        while data.len() % 4 != 0 {
+        while !data.len().is_multiple_of(4) {
             data.push(0);
         }
         let offset = data.len();

@@ -335,7 +335,7 @@ fn decode_textures(
                 .map_err(|err| LoadError::Texture {
                     path: origin.file.to_path_buf(),
                     image: label.clone(),
-                    message: err.to_string(),
+                    message: super::error::one_line(&err.to_string()),
                 })
         })
         .collect::<Result<_, _>>()?;
@@ -428,7 +428,8 @@ fn check_image_size(bytes: &[u8], label: &str, origin: Origin<'_>) -> Result<u64
         image: label.to_string(),
         message,
     };
-    let (width, height) = image_dimensions(bytes).map_err(|err| fail(err.to_string()))?;
+    let (width, height) =
+        image_dimensions(bytes).map_err(|err| fail(super::error::one_line(&err.to_string())))?;
     let pixels = u64::from(width) * u64::from(height);
     let max = origin.options.max_texture_pixels;
     if pixels > max {
