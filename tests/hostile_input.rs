@@ -626,10 +626,11 @@ fn sparse_indices_without_a_view_and_a_huge_count() {
         "meshes": [{"primitives": [{"attributes": {"POSITION": pos}, "indices": idx}]}]
     }));
     write_json(&dir, "indices.gltf", &doc);
+    // The geometry budget would refuse it first (below); raised, the view-less rule does.
     render_fails_capped(
         dir.path(),
         "indices.gltf",
-        &[],
+        &["--max-geometry-bytes", "1000000000000000"],
         &[
             &format!("indices accessor {idx}"),
             "no bufferView",
@@ -658,8 +659,20 @@ fn sparse_positions_without_a_view_and_a_huge_count() {
     render_fails_capped(
         dir.path(),
         "position.gltf",
-        &[],
+        &["--max-geometry-bytes", "1000000000000000"],
         &[&format!("POSITION accessor {pos}"), "no bufferView"],
+    );
+    // Under the default geometry budget (4 GiB) it is refused before the primitive is built,
+    // from the declared count.
+    render_fails_capped(
+        dir.path(),
+        "position.gltf",
+        &[],
+        &[
+            &format!("POSITION accessor {pos} declares 2000000000 vertices"),
+            "geometry budget",
+            "--max-geometry-bytes",
+        ],
     );
 }
 

@@ -387,7 +387,8 @@ fn load_bytes(
                         morph_weights: &drawn.weights,
                         skin: drawn.joints.as_deref(),
                     };
-                    geometry.charge(primitive_geometry_bytes(&primitive), &ctx.label, origin)?;
+                    let (bytes, declared) = primitive_geometry_bytes(&primitive);
+                    geometry.charge(bytes, &format!("{} ({declared})", ctx.label), origin)?;
                     if let Some(mut built) = primitives::build(&primitive, &ctx, &mut warnings)? {
                         built.node = u32::try_from(node.node.index()).ok();
                         normal_texture::ensure_tangents(
@@ -431,18 +432,36 @@ fn load_bytes(
 }
 
 /// What building `primitive` may allocate, from its accessors' declared counts: every vertex
-/// at [`GEOMETRY_BYTES_PER_VERTEX`], and its indices (three per strip or fan element).
-fn primitive_geometry_bytes(primitive: &::gltf::Primitive<'_>) -> u64 {
+/// at [`GEOMETRY_BYTES_PER_VERTEX`], and its indices (three per strip or fan element); and
+/// which accessors declared them, for the message.
+fn primitive_geometry_bytes(primitive: &::gltf::Primitive<'_>) -> (u64, String) {
     use ::gltf::mesh::Mode;
-    let vertices = primitive
-        .get(&::gltf::Semantic::Positions)
-        .map_or(0, |a| a.count() as u64);
-    let elements = primitive.indices().map_or(vertices, |a| a.count() as u64);
+    let positions = primitive.get(&::gltf::Semantic::Positions);
+    let vertices = positions.as_ref().map_or(0, |a| a.count() as u64);
+    let mut from = match &positions {
+        Some(a) => format!(
+            "POSITION accessor {} declares {vertices} vertices",
+            a.index()
+        ),
+        None => "no POSITION".to_string(),
+    };
+    let elements = match primitive.indices() {
+        Some(a) => {
+            from.push_str(&format!(
+                ", indices accessor {} {} indices",
+                a.index(),
+                a.count()
+            ));
+            a.count() as u64
+        }
+        None => vertices,
+    };
     let indices = match primitive.mode() {
         Mode::TriangleStrip | Mode::TriangleFan => elements.saturating_mul(3),
         _ => elements,
     };
-    vertices
+    let bytes = vertices
         .saturating_mul(GEOMETRY_BYTES_PER_VERTEX)
-        .saturating_add(indices.saturating_mul(GEOMETRY_BYTES_PER_INDEX))
+        .saturating_add(indices.saturating_mul(GEOMETRY_BYTES_PER_INDEX));
+    (bytes, from)
 }
