@@ -298,6 +298,11 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
             let _ = std::fs::remove_file(&in_progress);
             break;
         }
+        if status.code() == Some(2) {
+            // The worker could not start (its own message is above): no input to blame.
+            let _ = std::fs::remove_file(&in_progress);
+            return Err(format!("the {} worker could not start", target.name));
+        }
         report.deaths += 1;
         report.findings += 1;
         let kind = death_kind(&status, out_of_memory);

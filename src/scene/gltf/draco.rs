@@ -38,6 +38,17 @@ struct Decoded {
     component_type: json::accessor::ComponentType,
 }
 
+/// Whether any primitive of `root` is Draco-compressed.
+pub fn any_compressed(root: &json::Root) -> bool {
+    root.meshes.iter().any(|m| {
+        m.primitives.iter().any(|p| {
+            p.extensions
+                .as_ref()
+                .is_some_and(|e| e.others.contains_key(EXTENSION))
+        })
+    })
+}
+
 /// Decodes every Draco primitive of `root` into new buffers, views and accessors, before the
 /// document is validated (the `gltf` crate's validator refuses the accessors without a buffer
 /// view that a compressed primitive has until then). `buffers` are the root's buffers.

@@ -141,7 +141,7 @@ pub fn parse(
     if bytes.starts_with(b"glTF") {
         check_glb_header(bytes, origin)?;
     }
-    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(bytes)
+    let ::gltf::Gltf { document, mut blob } = ::gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|err| match err {
             ::gltf::Error::Binary(err) => origin.syntax(describe_glb_error(&err)),
             ::gltf::Error::Deserialize(err) => origin.syntax(format!(
@@ -160,12 +160,16 @@ pub fn parse(
     root.extensions_required
         .retain(|e| ::gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
     check_mesh_accessor_references(&root, origin)?;
-    // Buffers are read before validation so that Draco primitives can be decoded into plain
-    // accessors first (the validator refuses their view-less accessors until then).
-    let unvalidated = ::gltf::Document::from_json_without_validation(root);
-    let mut buffers = load_buffers(&unvalidated, blob, origin)?;
-    let mut root = unvalidated.into_json();
-    super::draco::decode_primitives(&mut root, &mut buffers, origin, geometry)?;
+    // With Draco primitives, buffers are read before validation so that they can be decoded
+    // into plain accessors first (the validator refuses their view-less accessors until then).
+    let mut early_buffers = None;
+    if super::draco::any_compressed(&root) {
+        let unvalidated = ::gltf::Document::from_json_without_validation(root);
+        let mut buffers = load_buffers(&unvalidated, blob.take(), origin)?;
+        root = unvalidated.into_json();
+        super::draco::decode_primitives(&mut root, &mut buffers, origin, geometry)?;
+        early_buffers = Some(buffers);
+    }
     let document = ::gltf::Document::from_json(root).map_err(|err| match err {
         ::gltf::Error::Validation(problems) => LoadError::Schema {
             path: origin.file.to_path_buf(),
@@ -173,6 +177,10 @@ pub fn parse(
         },
         other => origin.syntax(other.to_string()),
     })?;
+    let mut buffers = match early_buffers {
+        Some(buffers) => buffers,
+        None => load_buffers(&document, blob, origin)?,
+    };
     let document = super::meshopt::decode_views(document, &mut buffers, origin, geometry)?;
     Ok(Source { document, buffers })
 }
