@@ -6,6 +6,7 @@
 //!     [--seed N] [--crashes DIR] [--timeout-ms MS] [--cap-mib MIB]
 //! cargo run --release --example fuzz -- replay TARGET FILE...
 //! cargo run --release --example fuzz -- seeds [DIR]
+//! cargo run --release --example fuzz -- selftest
 //! ```
 //!
 //! `run` supervises a worker process (this binary, `worker`) per target. The worker calls the
@@ -40,6 +41,9 @@ use std::time::{Duration, Instant};
 
 #[global_allocator]
 static ALLOCATOR: alloc::Capped = alloc::Capped;
+
+/// Inputs kept per kind of worker death (hang, oom, abort, ...) and target in one run.
+const KEPT_PER_DEATH_KIND: u64 = 5;
 
 /// The worker's exit status when its watchdog ends a hung execution.
 const HANG_EXIT: i32 = 86;
@@ -103,6 +107,7 @@ fn main() -> std::process::ExitCode {
         Some("run") => run(&args[1..]),
         Some("worker") => worker(&args[1..]),
         Some("replay") => replay(&args[1..]),
+        Some("selftest") => selftest(),
         Some("seeds") => {
             let dir = args
                 .get(1)
@@ -132,10 +137,12 @@ fn root() -> PathBuf {
 }
 
 fn target(name: &str) -> Result<&'static Target, String> {
-    targets::by_name(name).ok_or_else(|| {
-        let names: Vec<&str> = targets::all().iter().map(|t| t.name).collect();
-        format!("no target {name:?}; targets: {}", names.join(", "))
-    })
+    targets::by_name(name)
+        .or_else(|| PLANTED.iter().find(|t| t.name == name))
+        .ok_or_else(|| {
+            let names: Vec<&str> = targets::all().iter().map(|t| t.name).collect();
+            format!("no target {name:?}; targets: {}", names.join(", "))
+        })
 }
 
 /// The seeds of `target`: its committed corpus, then the extra seeds read from `../shared`.
@@ -212,6 +219,7 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
     let mut report = Report::default();
     let mut restart = 0u64;
     let mut last_note = Instant::now();
+    let mut deaths_by_kind: std::collections::BTreeMap<&str, u64> = Default::default();
     loop {
         let left = settings.seconds - start.elapsed().as_secs_f64();
         let executions_left = settings.executions.saturating_sub(report.executions);
@@ -228,6 +236,10 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
             .args(["--cap-mib", &settings.cap_mib.to_string()])
             .arg("--crashes")
             .arg(&settings.crashes)
+            // A backtrace captured inside the panic hook would allocate past the cap (it
+            // reads the binary's debug information): the worker reports panics itself.
+            .env_remove("RUST_BACKTRACE")
+            .env_remove("RUST_LIB_BACKTRACE")
             .stdin(std::process::Stdio::null())
             .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::piped())
@@ -306,7 +318,14 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
         report.deaths += 1;
         report.findings += 1;
         let kind = death_kind(&status, out_of_memory);
+        let seen = deaths_by_kind.entry(kind).or_insert(0u64);
+        *seen += 1;
         match std::fs::read(&in_progress) {
+            // A fault hit again and again (each new worker finds it anew) is kept a few
+            // times, not thousands: the rest are counted.
+            Ok(_) if *seen > KEPT_PER_DEATH_KIND => {
+                let _ = std::fs::remove_file(&in_progress);
+            }
             Ok(input) => {
                 let why =
                     format!("the worker died: {kind} ({status}) after {executions} executions");
@@ -491,4 +510,102 @@ fn replay(args: &[String]) -> Result<bool, String> {
         clean &= matches!(fuzzer.execute(&input), Verdict::Clean);
     }
     Ok(clean)
+}
+
+/// Test-only targets with a planted fault each, behind a 4-byte magic that is also their one
+/// dictionary word: what `selftest` checks the harness catches and keeps.
+static PLANTED: &[Target] = &[
+    planted("planted-panic", b"BUG!"),
+    planted("planted-hang", b"HANG"),
+    planted("planted-oom", b"OOM!"),
+    planted("planted-oom-handled", b"TRY!"),
+    planted("planted-abort", b"ABRT"),
+];
+
+const fn planted(name: &'static str, magic: &'static [u8; 4]) -> Target {
+    Target {
+        name,
+        about: "test-only: a planted fault (fuzz selftest)",
+        execute: planted_fault,
+        shape: engine::Shape::Binary,
+        dictionary: match magic {
+            b"BUG!" => &[b"BUG!"],
+            b"HANG" => &[b"HANG"],
+            b"OOM!" => &[b"OOM!"],
+            b"TRY!" => &[b"TRY!"],
+            _ => &[b"ABRT"],
+        },
+        max_len: 64,
+    }
+}
+
+/// The planted faults, by the magic an input starts with.
+fn planted_fault(input: &[u8]) -> engine::Outcome {
+    match input.get(..4) {
+        Some(b"BUG!") => panic!("planted panic"),
+        Some(b"HANG") => loop {
+            std::thread::sleep(Duration::from_millis(10));
+        },
+        Some(b"OOM!") => {
+            // 64 GiB, infallibly: over the cap, the allocation fails and the process aborts.
+            let huge = vec![1u8; 1 << 36];
+            engine::Outcome::Accepted(format!("{}", huge.len()))
+        }
+        Some(b"TRY!") => {
+            let mut v: Vec<u8> = Vec::new();
+            match v.try_reserve(1 << 36) {
+                Ok(()) => engine::Outcome::Accepted("reserved".into()),
+                Err(_) => engine::Outcome::Refused("too large (handled)".into()),
+            }
+        }
+        Some(b"ABRT") => std::process::abort(),
+        _ => engine::Outcome::Refused("no magic".into()),
+    }
+}
+
+/// `selftest`: runs each planted target briefly under the supervisor and checks that its
+/// fault was found and its input kept, with the right kind.
+fn selftest() -> Result<bool, String> {
+    let dir = std::env::temp_dir().join(format!("glint-fuzz-selftest-{}", std::process::id()));
+    let settings = Settings {
+        seconds: 10.0,
+        executions: u64::MAX,
+        seed: 1,
+        crashes: dir.clone(),
+        timeout_ms: 500,
+        cap_mib: 64,
+    };
+    let mut all = true;
+    for (target, kind) in PLANTED.iter().zip(["panic", "hang", "oom", "oom", "abort"]) {
+        // Stop at the first finding: a short run is enough.
+        let settings = Settings {
+            executions: 200_000,
+            ..settings.clone()
+        };
+        let report = supervise(target, &settings)?;
+        let found = report.saved.iter().any(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with(&format!("{kind}-")))
+        });
+        let kept = report
+            .saved
+            .iter()
+            .filter_map(|p| std::fs::read(p).ok())
+            .any(|bytes| bytes.len() >= 4);
+        println!(
+            "fuzz selftest: {}: {} ({} executions, {} saved, {} worker deaths)",
+            target.name,
+            if found && kept {
+                format!("found as {kind}")
+            } else {
+                "NOT FOUND".into()
+            },
+            report.executions,
+            report.saved.len(),
+            report.deaths
+        );
+        all &= found && kept;
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(all)
 }
