@@ -44,14 +44,26 @@ pub fn srgb_to_linear(encoded: f32) -> f32 {
 
 /// Width and height from the image's header, without decoding it (the format is sniffed).
 pub fn image_dimensions(bytes: &[u8]) -> Result<(u32, u32), image::ImageError> {
-    image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(image::ImageError::IoError)?
-        .into_dimensions()
+    // Header parsing is decoder code too: a panic there is the image's error (see
+    // `decode_image`).
+    crate::panics::catch(|| {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(image::ImageError::IoError)?
+            .into_dimensions()
+    })
+    .map_err(|panic| {
+        image::ImageError::IoError(std::io::Error::other(format!(
+            "the decoder failed on this file's header (it panicked: {}); the file is corrupt, \
+             re-export it",
+            panic.message
+        )))
+    })?
 }
 
 /// Decodes a PNG or JPEG held in memory (the format is sniffed from the bytes, since glTF's
-/// `mimeType` is optional and sometimes wrong). The error is the decoder's own message.
+/// `mimeType` is optional and sometimes wrong). The error is the decoder's own message; a
+/// panic inside the decoder is caught and becomes the error.
 ///
 /// `max_pixels` bounds the texel count, checked from the header before any texel memory is
 /// allocated; the decoder's own allocation is bounded to match (8 bytes per texel covers
@@ -73,7 +85,15 @@ pub fn decode_image(
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(max_pixels.saturating_mul(8).max(1 << 20));
     reader.limits(limits);
-    let image = reader.decode()?;
+    // The decoders panic on some corrupt files (fuzzing found an index out of range in the
+    // png crate's palette expansion and an overflow in zune-jpeg's MCU arithmetic); they only
+    // read `bytes` and return a new image, so a panic is this image's decode error.
+    let image = crate::panics::catch(|| reader.decode()).map_err(|panic| {
+        image::ImageError::IoError(std::io::Error::other(format!(
+            "the decoder failed on this file (it panicked: {}); the file is corrupt, re-export it",
+            panic.message
+        )))
+    })??;
     let (width, height) = (image.width(), image.height());
     Ok(DecodedImage {
         width,
