@@ -124,25 +124,45 @@ fn read_exr(path: &Path, budget: u64) -> Result<EnvImage, EnvironmentError> {
         )?;
     }
     let compression = header.compression;
-    let image = exr::prelude::read_first_rgba_layer_from_file(
-        path,
-        |size, _| EnvImage {
-            width: size.width(),
-            height: size.height(),
-            texels: vec![Vec3::ZERO; size.width() * size.height()],
-        },
-        |image: &mut EnvImage, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            // The reader only hands out positions inside the size it created the image with.
-            if let Some(t) = image.texels.get_mut(pos.y() * image.width + pos.x()) {
-                *t = Vec3::new(r, g, b);
-            }
-        },
-    )
-    .map_err(|e| EnvironmentError::ExrPixels {
+    let pixels_error = |message: String| EnvironmentError::ExrPixels {
         path: path.to_path_buf(),
         compression: compression.to_string(),
-        message: e.to_string(),
-    })?;
+        message,
+    };
+    // On this thread, not the crate's own rayon pool: the decompressors panic on some corrupt
+    // blocks (fuzzing found an overflow in B44), and a panic on a rayon worker aborts the
+    // process, while here it is caught and becomes this file's error.
+    let image = crate::panics::catch(|| {
+        use exr::prelude::traits::{ReadChannels as _, ReadImage as _, ReadLayers as _};
+        exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .rgba_channels(
+                |size, _| EnvImage {
+                    width: size.width(),
+                    height: size.height(),
+                    texels: vec![Vec3::ZERO; size.width() * size.height()],
+                },
+                |image: &mut EnvImage, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                    // The reader only hands out positions inside the size it created the
+                    // image with.
+                    if let Some(t) = image.texels.get_mut(pos.y() * image.width + pos.x()) {
+                        *t = Vec3::new(r, g, b);
+                    }
+                },
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .non_parallel()
+            .from_file(path)
+    })
+    .map_err(|panic| {
+        pixels_error(format!(
+            "the decoder failed on this file (it panicked: {}); the file is corrupt",
+            panic.message
+        ))
+    })?
+    .map_err(|e| pixels_error(e.to_string()))?;
     Ok(image.layer_data.channel_data.pixels)
 }
 
