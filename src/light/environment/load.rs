@@ -133,7 +133,7 @@ fn read_exr(path: &Path, budget: u64) -> Result<EnvImage, EnvironmentError> {
     // blocks (fuzzing found an overflow in B44), and a panic on a rayon worker aborts the
     // process, while here it is caught and becomes this file's error.
     let image = crate::panics::catch(|| {
-        use exr::prelude::traits::{ReadChannels as _, ReadImage as _, ReadLayers as _};
+        use exr::prelude::traits::{ReadChannels as _, ReadLayers as _};
         exr::prelude::read()
             .no_deep_data()
             .largest_resolution_level()
