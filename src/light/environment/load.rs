@@ -122,6 +122,25 @@ fn read_exr(path: &Path, budget: u64) -> Result<EnvImage, EnvironmentError> {
             h.layer_size.height() as u64,
             budget,
         )?;
+        // The reader sizes each block's buffer from the tile size the header declares, not
+        // from the bytes present: a 783-byte file declaring 4 × 67 108 868 tiles made it
+        // allocate 1.9 GB (found by fuzzing). A tile may hold no more texels than the budget.
+        if let exr::meta::BlockDescription::Tiles(tiles) = &h.blocks {
+            let (w, h) = (
+                tiles.tile_size.width() as u64,
+                tiles.tile_size.height() as u64,
+            );
+            if w.saturating_mul(h) > budget {
+                return Err(EnvironmentError::Decode {
+                    path: path.to_path_buf(),
+                    format: "OpenEXR",
+                    message: format!(
+                        "its tiles are {w} × {h} texels, more than the {budget} texels an \
+                         environment map may have; the file is corrupt"
+                    ),
+                });
+            }
+        }
     }
     let compression = header.compression;
     let pixels_error = |message: String| EnvironmentError::ExrPixels {
