@@ -7,11 +7,13 @@
 
 pub mod accel;
 pub mod batch;
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod bsdf;
 pub mod cli;
 pub mod converge;
 pub mod geometry;
+pub mod job;
 pub mod light;
 pub mod material;
 pub mod output;

@@ -1,3 +1,4 @@
+#![cfg(feature = "bench")]
 //! `bench rays` in quick mode through the library: the report must be complete (every backend,
 //! build setting, method, workload, query and thread count), every figure finite and positive,
 //! and the answers consistent (occlusion against closest hits, backends against each other,

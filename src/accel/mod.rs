@@ -356,9 +356,11 @@ pub fn build(
     }
 }
 
-/// Largest coordinate magnitude [`build`] accepts (2^40); see
-/// [`crate::scene::gltf::MAX_COORDINATE`].
-pub const MAX_COORDINATE: f32 = crate::scene::gltf::MAX_COORDINATE;
+/// Largest coordinate magnitude [`build`] accepts (and the glTF loader, which refuses scenes
+/// beyond it): 2^40 ≈ 1.1e12. Beyond it an f32 has a spacing of 2^17 or more, so a ray
+/// starting there cannot resolve anything smaller than a 100-km step, and Embree rejects rays
+/// whose origin exceeds ~1.8e18 outright (an assertion that aborts the process).
+pub const MAX_COORDINATE: f32 = (1u64 << 40) as f32;
 
 /// Rejects input that would make either backend misbehave: out-of-range indices, non-finite
 /// positions. Catching it here keeps both backends' behaviour identical and defined. [`build`]

@@ -35,9 +35,9 @@ use super::paths;
 use super::report::{BatchReport, JobReport, JobStatus};
 use super::shard::Shard;
 use crate::accel::BackendKind;
+use crate::job::{DEFAULT_ASPECT, DEFAULT_WIDTH, PreparedScene, RunOptions};
 use crate::panics;
-use crate::render::job::{DEFAULT_ASPECT, DEFAULT_WIDTH, SceneSource};
-use crate::render::{self, PreparedScene, RenderError};
+use crate::render::{self, RenderError};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -76,14 +76,12 @@ pub fn run(
 /// The scene loader of [`run`]: the job's file, selection and load options, prepared for
 /// its backend.
 pub fn load_scene(job: &Job) -> Result<PreparedScene, String> {
+    let render = &job.render;
     PreparedScene::load(
-        &SceneSource::File(job.scene().to_path_buf()),
-        &crate::scene::gltf::SceneSelection {
-            scene: job.args.scene_index,
-            time: job.args.time,
-        },
-        &job.args.load_options(),
-        job.args.backend,
+        &render.scene,
+        &render.selection,
+        &render.load_options,
+        render.backend,
     )
     .map_err(|e| e.to_string())
 }
@@ -142,7 +140,7 @@ pub fn run_with_loader(
             todo.push(job);
         }
     }
-    let any_embree = todo.iter().any(|j| j.args.backend == BackendKind::Embree);
+    let any_embree = todo.iter().any(|j| j.render.backend == BackendKind::Embree);
     let pool = render::thread_pool(
         options.threads,
         if any_embree {
@@ -310,11 +308,11 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
         let path = std::fs::canonicalize(job.scene()).unwrap_or_else(|_| job.scene().into());
         let key = (
             path,
-            job.args.backend,
-            job.args.scene_index,
-            job.args.time.map(f32::to_bits),
-            job.args.asset_root.clone(),
-            job.args.max_texture_pixels,
+            job.render.backend,
+            job.render.selection.scene,
+            job.render.selection.time.map(f32::to_bits),
+            job.render.load_options.asset_root.clone(),
+            job.render.load_options.max_texture_pixels,
         );
         match keys.iter().position(|k| *k == key) {
             Some(i) => groups[i].push(job),
@@ -335,13 +333,14 @@ fn render_job(
     pool: &rayon::ThreadPool,
     tick: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<render::RenderStats, String> {
-    // The output folder exists: the write probe created it.
-    let quiet = |_: String| {};
-    let in_scene = |e: render::JobError| format!("{}: {e}", job.scene().display());
-    let render_job = job.to_job().map_err(in_scene)?;
-    // `run` names the scene in its errors already.
-    let done = render::job::run(&render_job, prepared, Some(pool), Some(tick), &quiet)
-        .map_err(|e| e.to_string())?;
+    // The output folder exists: the write probe created it. Notes are dropped (a batch
+    // reports per job), and `run` names the scene in its errors already.
+    let options = RunOptions {
+        pool: Some(pool),
+        progress: Some(tick),
+        ..RunOptions::default()
+    };
+    let done = crate::job::run(&job.render, prepared, options).map_err(|e| e.to_string())?;
     Ok(done.stats)
 }
 
@@ -371,7 +370,8 @@ pub fn output_is_complete(job: &Job) -> bool {
     let Some((width, height)) = size else {
         return false;
     };
-    job.args.width.is_none_or(|w| w == width) && job.args.height.is_none_or(|h| h == height)
+    let render = &job.render;
+    render.width.is_none_or(|w| w == width) && render.height.is_none_or(|h| h == height)
 }
 
 fn report(
@@ -417,13 +417,13 @@ impl Progress {
         let estimates: Vec<u64> = jobs
             .iter()
             .map(|j| {
-                let width = j.args.width.unwrap_or(DEFAULT_WIDTH) as u64;
+                let width = j.render.width.unwrap_or(DEFAULT_WIDTH) as u64;
                 let height = j
-                    .args
+                    .render
                     .height
                     .unwrap_or((width as f32 / DEFAULT_ASPECT).round() as u32)
                     as u64;
-                (width * height * j.args.spp as u64).max(1)
+                (width * height * j.render.settings.spp as u64).max(1)
             })
             .collect();
         let bar = if quiet {

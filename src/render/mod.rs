@@ -1,7 +1,6 @@
 //! The renderer: direct illumination from punctual lights, mirror reflections and emission,
 //! in radiometric units (radiance in W/(m²·sr)).
 //!
-//! - [`job`]: one whole render, scene file to image file ([`Job`], [`PreparedScene`], [`job::run`]).
 //! - [`prepare`]: scene → acceleration structure (reusable across renders).
 //! - [`render`]: one image of a prepared scene through one camera.
 //! - [`camera`], [`sampler`], [`film`], [`tiles`]: the pieces, each a small type.
@@ -15,12 +14,10 @@ pub mod film;
 pub mod filter;
 pub mod ids;
 pub(crate) mod integrator;
-pub mod job;
 pub mod kernel;
 mod layer_textures;
 pub mod medium;
 mod normal_maps;
-pub mod options;
 pub mod partial;
 pub mod path;
 pub mod progressive;
@@ -33,7 +30,6 @@ pub(crate) mod visibility;
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};
 pub use filter::{FilterKind, FilterSpec};
-pub use job::{Job, JobError, JobOutput, PreparedScene};
 pub use kernel::{KernelChoice, KernelFlags};
 pub use progressive::{ProgressiveOutput, StopReason, StopRule, render_progressive};
 pub use sampler::{PixelSampler, PixelSampling};
@@ -105,7 +101,7 @@ pub enum LightStrategy {
 }
 
 /// The light-transport estimator.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Integrator {
     /// Unidirectional path tracing with next-event estimation and MIS ([`path`]).
     Path,
@@ -113,15 +109,6 @@ pub enum Integrator {
     /// mirror chains: glint's first integrator, exact for delta lights.
     #[default]
     Direct,
-}
-
-impl std::fmt::Display for Integrator {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Integrator::Path => "path",
-            Integrator::Direct => "direct",
-        })
-    }
 }
 
 impl Default for RenderSettings {
@@ -421,4 +408,33 @@ pub fn thread_pool(threads: usize, backend: BackendKind) -> Result<rayon::Thread
         threads,
         reason: e.to_string(),
     })
+}
+
+impl Integrator {
+    /// Every integrator, in the order the command line lists them.
+    pub const ALL: [Integrator; 2] = [Integrator::Path, Integrator::Direct];
+
+    /// Name on the command line and in job files: `path`, `direct`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Path => "path",
+            Integrator::Direct => "direct",
+        }
+    }
+}
+
+impl std::fmt::Display for Integrator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Integrator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Integrator::ALL
+            .into_iter()
+            .find(|i| i.name() == s)
+            .ok_or_else(|| format!("unknown integrator '{s}' (expected path or direct)"))
+    }
 }
