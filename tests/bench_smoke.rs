@@ -198,7 +198,12 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
         .iter()
         .map(|r| r.ratio)
         .chain(scene.packet_gains.iter().map(|g| g.packet8_over_single))
-        .chain(scene.scaling.iter().flat_map(|s| [s.speedup, s.efficiency]))
+        .chain(
+            scene
+                .scaling
+                .iter()
+                .flat_map(|s| [s.scaling.speedup, s.scaling.efficiency]),
+        )
         .chain(
             scene
                 .embree_over_bvh

@@ -310,6 +310,14 @@ pub trait Accel: Send + Sync {
     fn kernels(&self) -> String {
         self.kind().name().to_string()
     }
+
+    /// The Embree backend itself, for callers that reach its single-ray and 8-wide packet
+    /// entry points, which this trait hides (the benchmarks compare them); `None` for every
+    /// other backend.
+    #[cfg(feature = "embree")]
+    fn as_embree(&self) -> Option<&embree::EmbreeAccel> {
+        None
+    }
 }
 
 /// Every ray-query configuration this build can run on this CPU, with default build settings
@@ -340,13 +348,23 @@ pub fn configuration_label(kind: BackendKind, options: &BuildOptions) -> String 
     }
 }
 
-/// Builds the chosen backend over `meshes`.
+/// Builds the chosen backend over `meshes`, after [`validate`] has checked them.
 pub fn build(
     kind: BackendKind,
     meshes: &[TriangleMesh<'_>],
     options: BuildOptions,
 ) -> Result<Box<dyn Accel>, AccelError> {
     validate(meshes)?;
+    build_validated(kind, meshes, options)
+}
+
+/// [`build`] without its [`validate`] pass, for callers that have validated `meshes` already
+/// (the benchmarks, which time the build alone): the one place that picks a backend's type.
+pub fn build_validated(
+    kind: BackendKind,
+    meshes: &[TriangleMesh<'_>],
+    options: BuildOptions,
+) -> Result<Box<dyn Accel>, AccelError> {
     match kind {
         #[cfg(feature = "embree")]
         BackendKind::Embree => Ok(Box::new(embree::EmbreeAccel::build(meshes, options)?)),

@@ -531,15 +531,32 @@ mod tests {
     fn a_panic_while_loading_one_scene_fails_its_jobs_only() {
         let dir = tempfile::tempdir().unwrap();
         let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb");
-        let text = format!(
-            "[defaults]\nwidth = 8\nheight = 6\nspp = 1\nbackend = \"bvh\"\n\
-             [[job]]\nscene = \"boom.glb\"\noutput = \"a.png\"\n\
-             [[job]]\nscene = \"{demo}\"\noutput = \"b.png\"\n\
-             [[job]]\nscene = \"boom.glb\"\noutput = \"c.png\"\n",
-            demo = demo.display()
-        );
         let file = dir.path().join("jobs.toml");
-        let jobs = super::super::jobs::parse(&text, &file).unwrap();
+        let job = |index: usize, scene: &Path, output: &str| Job {
+            index,
+            origin: format!("[[job]] {index}"),
+            render: crate::job::Job {
+                scene: crate::scene::SceneSource::File(scene.to_path_buf()),
+                backend: BackendKind::Bvh,
+                width: Some(8),
+                height: Some(6),
+                settings: crate::render::RenderSettings {
+                    spp: 1,
+                    ..crate::job::Job::default().settings
+                },
+                output: Some(crate::job::OutputSpec {
+                    path: dir.path().join(output),
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+        };
+        let boom = dir.path().join("boom.glb");
+        let jobs = [
+            job(0, &boom, "a.png"),
+            job(1, &demo, "b.png"),
+            job(2, &boom, "c.png"),
+        ];
         let loader = |job: &Job| {
             if job.scene().ends_with("boom.glb") {
                 panic!("injected load panic");
