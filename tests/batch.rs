@@ -266,6 +266,19 @@ fn bad_job_files_name_the_file_the_job_and_the_key() {
             "[[job]]\nscene = \"a.glb\"\noutput = ",
             ["TOML", "line", ""],
         ),
+        // Values glint render refuses before rendering refuse the file, blamed on the key.
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\nbackground = [1, 2]",
+            ["[[job]] 0", "\"background\"", "R,G,B"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\ntime_budget = 0",
+            ["[[job]] 0", "\"time_budget\"", "positive number of seconds"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\nintegrator = \"bidirectional\"",
+            ["[[job]] 0", "\"integrator\"", "path or direct"],
+        ),
     ];
     for (body, needles) in cases {
         let message = job_file_error(body);
