@@ -8,7 +8,10 @@
 //! - every module of `src/` has a row in the table, and every module the table names exists;
 //! - no module imports a module of a higher layer ([`KNOWN_SHADING_WING_VIOLATIONS`] excepted,
 //!   and that list must not hold an entry that no longer occurs);
-//! - the modules' import graph has no cycle (within a layer too).
+//! - the modules' import graph has no cycle (within a layer too);
+//! - `clap` is named only by the command line (`src/cli/`, `src/main.rs`): the engine's enums
+//!   name themselves with `FromStr`/`Display`, and batch job files reach clap through the
+//!   parser the command line passes in.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -470,6 +473,31 @@ fn the_module_graph_has_no_cycle() {
         cycles.is_empty(),
         "import cycles among the top-level modules of src/:\n  {}",
         cycles.join("\n\n  ")
+    );
+}
+
+#[test]
+fn clap_lives_only_in_the_command_line() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut offenders = Vec::new();
+    for file in files {
+        let rel = file.strip_prefix(&src).expect("under src/").to_path_buf();
+        if rel.starts_with("cli") || rel == Path::new("main.rs") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&file).expect("source file is readable");
+        for (token, line) in tokens(&code_only(&text)) {
+            if token == Token::Ident("clap".into()) {
+                offenders.push(format!("src/{}:{line}", rel.display()));
+            }
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "clap outside the command line (src/cli/, src/main.rs): {}",
+        offenders.join(", ")
     );
 }
 
