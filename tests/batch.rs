@@ -277,7 +277,7 @@ fn bad_job_files_name_the_file_the_job_and_the_key() {
         ),
         (
             "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\nintegrator = \"bidirectional\"",
-            ["[[job]] 0", "\"integrator\"", "path or direct"],
+            ["[[job]] 0", "\"integrator\"", "bidirectional"],
         ),
     ];
     for (body, needles) in cases {

@@ -262,7 +262,7 @@ pub struct KernelBenchArgs {
     pub threads: usize,
     /// Integrator: `direct` compares the kernels and the raw camera + shadow trace; `path`
     /// records the path tracer's own rays and replays them unshaded.
-    #[arg(long, default_value_t = render::Integrator::Direct)]
+    #[arg(long, value_parser = super::values::integrator(), default_value_t = render::Integrator::Direct)]
     pub integrator: render::Integrator,
     /// Bounces of the path tracer (`--integrator path`).
     #[arg(long, default_value_t = 8)]

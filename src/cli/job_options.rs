@@ -52,11 +52,21 @@ impl OptionParser for RenderOptions {
     }
 }
 
-/// The first line of a clap error, without its `error: ` prefix.
+/// A clap error in one line: its first line without the `error: ` prefix, and the list of
+/// possible values where clap gives one.
 fn clap_message(e: &clap::Error) -> String {
     let text = e.to_string();
-    let line = text.lines().next().unwrap_or_default();
-    line.strip_prefix("error: ").unwrap_or(line).to_string()
+    let mut lines = text.lines();
+    let first = lines.next().unwrap_or_default();
+    let mut message = first.strip_prefix("error: ").unwrap_or(first).to_string();
+    if let Some(values) = lines
+        .map(str::trim)
+        .find(|l| l.starts_with("[possible values"))
+    {
+        message.push(' ');
+        message.push_str(values);
+    }
+    message
 }
 
 #[cfg(test)]
@@ -92,7 +102,7 @@ mod tests {
             .parse(None, &["--integrator".into(), "bogus".into()])
             .unwrap_err();
         assert!(
-            bad.contains("bogus") && bad.contains("path or direct"),
+            bad.contains("bogus") && bad.contains("[possible values: path, direct]"),
             "{bad}"
         );
         let background = RenderOptions

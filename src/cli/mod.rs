@@ -11,6 +11,7 @@ pub mod job_options;
 pub mod merge;
 pub mod render;
 pub mod render_args;
+pub mod values;
 
 /// glint: a native CPU renderer for glTF 2.0 scenes.
 #[derive(clap::Parser)]

@@ -99,7 +99,11 @@ pub struct RenderArgs {
     /// Texture filter, overriding the glTF samplers (for experiments): nearest, bilinear and
     /// bicubic read the full-resolution image only; trilinear and anisotropic use MIP maps and
     /// ray differentials.
-    #[arg(long, default_value_t = Job::default().settings.texture_filter)]
+    #[arg(
+        long,
+        value_parser = super::values::texture_filter(),
+        default_value_t = Job::default().settings.texture_filter
+    )]
     pub texture_filter: TextureFilter,
     /// Write 16 bits per channel to PNG.
     #[arg(long)]
@@ -135,7 +139,11 @@ pub struct RenderArgs {
     pub max_spp: u32,
     /// Light transport: path (path tracing with next-event estimation and MIS) or direct
     /// (direct light and mirror chains only).
-    #[arg(long, default_value_t = Job::default().settings.integrator)]
+    #[arg(
+        long,
+        value_parser = super::values::integrator(),
+        default_value_t = Job::default().settings.integrator
+    )]
     pub integrator: Integrator,
     /// Environment map: an equirectangular .hdr or .exr.
     #[arg(long, value_name = "FILE", conflicts_with = "background")]
