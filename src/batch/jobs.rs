@@ -14,6 +14,8 @@
 use super::sweep;
 use crate::job::{CameraChoice, EnvironmentSource, LightSource, SceneSource};
 use glam::Vec3;
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};
 
@@ -223,6 +225,7 @@ pub fn parse_file(
         folder,
         defaults: &defaults,
         options,
+        checked: RefCell::default(),
     };
     let job_tables = tables("job")?;
     let sweeps = tables("sweep")?
@@ -376,6 +379,8 @@ struct Context<'a> {
     folder: &'a Path,
     defaults: &'a Table,
     options: &'a dyn OptionParser,
+    /// The arguments of each (key, value text) already checked, for the next job.
+    checked: RefCell<HashMap<(String, String), Vec<String>>>,
 }
 
 impl Context<'_> {
@@ -426,13 +431,24 @@ impl Context<'_> {
                     ));
                 }
                 _ => {
-                    let single = self
-                        .option_args(key, value)
-                        .map_err(|m| key_error(key, m))?;
-                    // Parsed alone first, so that a bad value is blamed on its key.
-                    self.options
-                        .parse(None, &single)
-                        .map_err(|m| key_error(key, m))?;
+                    // A sweep's jobs share most keys: each (key, value) is turned into
+                    // arguments and checked once (a parse builds the whole command).
+                    let memo_key = (key.clone(), value.to_string());
+                    let cached = self.checked.borrow().get(&memo_key).cloned();
+                    let single = match cached {
+                        Some(single) => single,
+                        None => {
+                            let single = self
+                                .option_args(key, value)
+                                .map_err(|m| key_error(key, m))?;
+                            // Parsed alone first, so that a bad value is blamed on its key.
+                            self.options
+                                .parse(None, &single)
+                                .map_err(|m| key_error(key, m))?;
+                            self.checked.borrow_mut().insert(memo_key, single.clone());
+                            single
+                        }
+                    };
                     argv.extend(single);
                 }
             }
