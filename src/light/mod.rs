@@ -23,6 +23,7 @@ pub mod light_bvh;
 pub mod placed_emitters;
 pub mod point;
 pub mod range;
+pub mod sampler;
 pub mod spot;
 
 pub use area::{AreaLights, AreaSample, EmitterMesh};
@@ -30,6 +31,7 @@ pub use directional::DirectionalLight;
 pub use environment::{EnvSample, EnvironmentError, EnvironmentLight};
 pub use point::PointLight;
 pub use range::{Bounded, RangeWindow, Unbounded};
+pub use sampler::{LightSample, LightSampler, NoLightSample};
 pub use spot::SpotLight;
 
 use crate::scene::Light;
@@ -58,17 +60,6 @@ impl LightUnits {
             LightUnits::Photometric => 1.0 / LUMENS_PER_WATT,
         }
     }
-}
-
-/// `light` with its intensity (or irradiance) multiplied by `factor`, e.g.
-/// `LightUnits::Photometric.to_radiometric()` to convert a photometric light.
-pub fn scaled(light: &Light, factor: f32) -> Light {
-    let mut light = light.clone();
-    match &mut light {
-        Light::Point { intensity, .. } | Light::Spot { intensity, .. } => *intensity *= factor,
-        Light::Directional { irradiance, .. } => *irradiance *= factor,
-    }
-    light
 }
 
 /// Where the shadow ray of a light sample goes.

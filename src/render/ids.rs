@@ -25,7 +25,7 @@
 //! not traced and the kernels' only addition is one emptiness check per batch of camera rays.
 
 use super::film::{AovSelection, Image, TileSums};
-use super::integrator::TileContext;
+use super::wavefront::TileContext;
 use super::stats::RayCounts;
 use super::tiles::Tile;
 use crate::accel::{Coherence, Hit, Ray};

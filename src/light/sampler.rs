@@ -1,0 +1,370 @@
+//! One light sampler over every light of a render: it chooses the one light a path vertex
+//! samples and draws that light's sample, and it answers the density with which it would
+//! have drawn a direction that a BSDF-sampled ray found (for multiple importance sampling).
+//!
+//! # Which light
+//!
+//! Lights fall in two kinds, as in pbrt-v4's `BVHLightSampler`:
+//! - **finite** lights: point and spot lights in a light BVH of their own
+//!   ([`LightBvh::over`]) and the emissive triangles ([`AreaLights`], by power or by their own
+//!   light BVH). Together they are one tree whose root splits punctual lights from emissive
+//!   ones: the two sides are chosen in proportion to their importance at the shading point
+//!   (the same bound on `Φ cos θ / d²` the trees use inside, see [`super::light_bvh`]), and
+//!   each side then descends its own tree;
+//! - **infinite** lights: directional lights and the environment. With finite lights present,
+//!   each infinite light is chosen with probability `1 / (n_infinite + 1)` and the finite
+//!   tree with the rest (pbrt-v4's rule; see docs/lights.md for what other shares measured).
+//!
+//! So every light has one selection probability `P(light | p, n)`, the product along the
+//! choices, and a vertex takes exactly one light sample (one shadow ray), whatever the number
+//! of lights: 64 lamps cost what one does.
+//!
+//! # Random numbers
+//!
+//! A sample takes `u_choice` (one dimension, only when there is a choice to make: more than
+//! one light, or emissive triangles, which choose their triangle with it) and `u` (two
+//! dimensions, only when there are emissive triangles or an environment). A scene with one
+//! punctual light consumes none, an environment alone only `u`, as before this sampler
+//! existed, so their images did not change.
+//!
+//! # Estimator
+//!
+//! A delta light's sample carries its irradiance and its discrete selection probability; an
+//! area or environment sample its solid-angle density times its selection probability.
+//! Dividing by them keeps next-event estimation unbiased: every light that can contribute at
+//! a point has a positive probability there (`tests/light_sampler.rs` checks the sum over 64
+//! point lights, 16 spots, an emissive mesh and an environment against each light's own
+//! integral).
+
+use super::area::{AreaLights, AreaSample};
+use super::environment::{EnvSample, EnvironmentLight};
+use super::light_bvh::{ClusterBounds, LightBvh};
+use super::{GeneralLight, LightSet, PunctualLight, ShadowTarget, Unlit};
+use crate::color::luminance;
+use glam::{Vec2, Vec3};
+use std::borrow::Cow;
+use std::f32::consts::PI;
+
+/// A light sample, as the integrator turns it into a shadow ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightSample {
+    /// A point, spot or directional light.
+    Delta {
+        /// Unit direction toward the light.
+        wi: Vec3,
+        /// Irradiance on a surface facing `wi` (W/m²), before visibility.
+        irradiance: Vec3,
+        /// Where the shadow ray goes.
+        target: ShadowTarget,
+        /// The probability with which the sampler chose this light.
+        probability: f32,
+    },
+    /// A point on an emissive triangle; its `pdf` includes the selection probability.
+    Area(AreaSample),
+    /// An environment direction; its `pdf` includes the selection probability.
+    Environment(EnvSample),
+}
+
+/// The lights of a render and how one of them is chosen (see the module doc).
+#[derive(Clone, Debug, Default)]
+pub struct LightSampler<'a> {
+    /// Point and spot lights, entry `j` of `tree`.
+    punctual: Vec<GeneralLight>,
+    /// The light BVH over `punctual`.
+    tree: Option<LightBvh>,
+    /// Directional lights.
+    directional: Vec<GeneralLight>,
+    /// Emissive triangles (`None` when nothing emits or surfaces are not light-sampled).
+    area: Option<Cow<'a, AreaLights>>,
+    /// The environment (`None` without one, or when it is not light-sampled).
+    environment: Option<&'a EnvironmentLight>,
+}
+
+/// Which side of the choice a light is on, with the probability of reaching that side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Side {
+    Punctual,
+    Area,
+    Infinite(usize),
+}
+
+impl<'a> LightSampler<'a> {
+    /// The sampler over `lights` (punctual), `area` (emissive triangles) and `environment`.
+    pub fn new(
+        lights: &LightSet,
+        area: Option<Cow<'a, AreaLights>>,
+        environment: Option<&'a EnvironmentLight>,
+    ) -> Self {
+        let (directional, punctual): (Vec<GeneralLight>, Vec<GeneralLight>) = lights
+            .general
+            .iter()
+            .partition(|l| matches!(l, GeneralLight::Directional(_)));
+        let bounds: Vec<ClusterBounds> = punctual.iter().map(punctual_bounds).collect();
+        let tree = LightBvh::over(&bounds);
+        Self {
+            punctual,
+            tree,
+            directional,
+            area: area.filter(|a| !a.is_empty()),
+            environment,
+        }
+    }
+
+    /// The emissive triangles, if they are sampled.
+    pub fn area(&self) -> Option<&AreaLights> {
+        self.area.as_deref()
+    }
+
+    /// The environment, if it is sampled.
+    pub fn environment(&self) -> Option<&'a EnvironmentLight> {
+        self.environment
+    }
+
+    /// Whether there is no light to sample.
+    pub fn is_empty(&self) -> bool {
+        self.punctual.is_empty()
+            && self.directional.is_empty()
+            && self.area.is_none()
+            && self.environment.is_none()
+    }
+
+    /// Whether a sample needs `u_choice` (a choice between lights, or of a triangle).
+    #[inline]
+    pub fn needs_choice(&self) -> bool {
+        self.area.is_some() || self.candidates() > 1
+    }
+
+    /// Whether a sample needs `u` (a point on a triangle, or an environment direction).
+    #[inline]
+    pub fn needs_position(&self) -> bool {
+        self.area.is_some() || self.environment.is_some()
+    }
+
+    /// The number of lights or groups the first choice is among.
+    #[inline]
+    fn candidates(&self) -> usize {
+        self.punctual.len()
+            + self.directional.len()
+            + usize::from(self.area.is_some())
+            + usize::from(self.environment.is_some())
+    }
+
+    #[inline]
+    fn infinite_count(&self) -> usize {
+        self.directional.len() + usize::from(self.environment.is_some())
+    }
+
+    #[inline]
+    fn has_finite(&self) -> bool {
+        self.tree.is_some() || self.area.is_some()
+    }
+
+    /// The probability of choosing one given infinite light.
+    #[inline]
+    fn infinite_probability(&self) -> f32 {
+        let n = self.infinite_count();
+        if n == 0 {
+            return 0.0;
+        }
+        if self.has_finite() {
+            1.0 / (n as f32 + 1.0)
+        } else {
+            1.0 / n as f32
+        }
+    }
+
+    /// The probability of the finite tree.
+    #[inline]
+    fn finite_probability(&self) -> f32 {
+        if !self.has_finite() {
+            return 0.0;
+        }
+        match self.infinite_count() {
+            0 => 1.0,
+            n => 1.0 / (n as f32 + 1.0),
+        }
+    }
+
+    /// The probability that the finite tree's root goes to the punctual side (`punctual`) or
+    /// the emissive side at `p`, `n`: 1 when only that side exists.
+    #[inline]
+    fn side_probability(&self, p: Vec3, n: Vec3, punctual: bool) -> f32 {
+        match (&self.tree, &self.area) {
+            (Some(tree), Some(area)) => {
+                let (ip, ia) = (tree.importance(p, n), area.importance(p, n));
+                let sum = ip + ia;
+                if !(sum > 0.0 && sum.is_finite()) {
+                    return 0.0;
+                }
+                if punctual { ip / sum } else { ia / sum }
+            }
+            (Some(_), None) => f32::from(u8::from(punctual)),
+            (None, Some(_)) => f32::from(u8::from(!punctual)),
+            (None, None) => 0.0,
+        }
+    }
+
+    /// Chooses a side with `u`, returning it, its probability and `u` rescaled to [0, 1).
+    #[inline]
+    fn choose(&self, p: Vec3, n: Vec3, u: f32) -> Option<(Side, f32, f32)> {
+        let p_inf = self.infinite_probability();
+        let n_inf = self.infinite_count();
+        let p_fin = self.finite_probability();
+        let mut u = u;
+        if n_inf > 0 {
+            let all_infinite = p_inf * n_inf as f32;
+            if !self.has_finite() || u < all_infinite {
+                let scaled = (u / p_inf).min(n_inf as f32 - 1.0).max(0.0);
+                let k = scaled as usize;
+                let rest = (scaled - k as f32).min(ONE_BELOW);
+                return Some((Side::Infinite(k.min(n_inf - 1)), p_inf, rest));
+            }
+            u = ((u - all_infinite) / p_fin).min(ONE_BELOW);
+        }
+        let pp = self.side_probability(p, n, true);
+        let pa = self.side_probability(p, n, false);
+        if pp <= 0.0 && pa <= 0.0 {
+            return None;
+        }
+        if pa <= 0.0 {
+            return Some((Side::Punctual, p_fin * pp, u));
+        }
+        if pp <= 0.0 {
+            return Some((Side::Area, p_fin * pa, u));
+        }
+        if u < pp {
+            Some((Side::Punctual, p_fin * pp, (u / pp).min(ONE_BELOW)))
+        } else {
+            Some((Side::Area, p_fin * pa, ((u - pp) / pa).min(ONE_BELOW)))
+        }
+    }
+
+    /// One light sample for the point `p` with shading normal `n` (see the module doc for
+    /// `u_choice` and `u`), or why there is none: the chosen delta light does not reach `p`
+    /// (outside its cone, beyond its range), or no light could be drawn.
+    #[inline]
+    pub fn sample(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        u_choice: f32,
+        u: Vec2,
+    ) -> Result<LightSample, NoLightSample> {
+        let (side, probability, rest) = self.choose(p, n, u_choice).ok_or(NoLightSample::None)?;
+        match side {
+            Side::Infinite(k) => match self.directional.get(k) {
+                Some(light) => delta_sample(light, p, probability),
+                None => {
+                    let mut es = self
+                        .environment
+                        .and_then(|env| env.sample(u))
+                        .ok_or(NoLightSample::None)?;
+                    es.pdf *= probability;
+                    positive(es.pdf).map(|_| LightSample::Environment(es))
+                }
+            },
+            Side::Punctual => {
+                let (j, pmf) = if self.punctual.len() == 1 {
+                    (0, 1.0)
+                } else {
+                    self.tree
+                        .as_ref()
+                        .and_then(|tree| tree.sample(p, n, rest))
+                        .ok_or(NoLightSample::None)?
+                };
+                let light = self.punctual.get(j).ok_or(NoLightSample::None)?;
+                delta_sample(light, p, probability * pmf)
+            }
+            Side::Area => {
+                let mut ls = self
+                    .area
+                    .as_ref()
+                    .and_then(|area| area.sample(p, n, rest, u))
+                    .ok_or(NoLightSample::None)?;
+                ls.pdf *= probability;
+                positive(ls.pdf).map(|_| LightSample::Area(ls))
+            }
+        }
+    }
+
+    /// The density with which [`sample`](Self::sample) at `p`, `n` draws the point `point` of
+    /// emissive triangle `(mesh, instance, triangle)`, per solid angle at `p`.
+    #[inline]
+    pub fn area_pdf(&self, p: Vec3, n: Vec3, triangle: (u32, u32, u32), point: Vec3) -> f32 {
+        let Some(area) = &self.area else {
+            return 0.0;
+        };
+        let side = self.finite_probability() * self.side_probability(p, n, false);
+        if side <= 0.0 {
+            return 0.0;
+        }
+        side * area.pdf(p, n, triangle, point)
+    }
+
+    /// The density with which [`sample`](Self::sample) draws the environment direction
+    /// `dir` (unit), per solid angle.
+    #[inline]
+    pub fn environment_pdf(&self, dir: Vec3) -> f32 {
+        match self.environment {
+            Some(env) => self.infinite_probability() * env.pdf(dir),
+            None => 0.0,
+        }
+    }
+}
+
+/// Why [`LightSampler::sample`] drew no sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoLightSample {
+    /// The chosen delta light does not reach the point.
+    Unlit(Unlit),
+    /// No light could be chosen or drawn (none reaches the point, a degenerate sample).
+    None,
+}
+
+/// `Ok` for a positive density or probability.
+#[inline]
+fn positive(pdf: f32) -> Result<(), NoLightSample> {
+    if pdf > 0.0 {
+        Ok(())
+    } else {
+        Err(NoLightSample::None)
+    }
+}
+
+/// The largest f32 below 1.
+const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// A delta light's sample at `p`, chosen with `probability`.
+#[inline]
+fn delta_sample(
+    light: &GeneralLight,
+    p: Vec3,
+    probability: f32,
+) -> Result<LightSample, NoLightSample> {
+    let incident = light.incident(p).map_err(NoLightSample::Unlit)?;
+    positive(probability)?;
+    Ok(LightSample::Delta {
+        wi: incident.wi,
+        irradiance: incident.irradiance,
+        target: incident.target,
+        probability,
+    })
+}
+
+/// The light BVH's bounds of a point or spot light: power `4π · luminance(I)`, as pbrt-v4
+/// counts a point light's power.
+fn punctual_bounds(light: &GeneralLight) -> ClusterBounds {
+    match light {
+        GeneralLight::Point(l) => {
+            ClusterBounds::point(l.position, 4.0 * PI * luminance(l.intensity).max(0.0))
+        }
+        GeneralLight::Spot(l) => ClusterBounds::spot(
+            l.position,
+            l.direction,
+            l.cos_outer,
+            4.0 * PI * luminance(l.intensity).max(0.0),
+        ),
+        // Not in the tree: infinite lights are chosen beside it.
+        GeneralLight::Directional(_) => ClusterBounds::point(Vec3::ZERO, 0.0),
+    }
+}
