@@ -31,7 +31,8 @@
 //! `wi` may be below it (transmission).
 
 use super::{
-    Bsdf, BsdfFlags, BsdfSample, ClearcoatBsdf, DielectricBsdf, MetallicRoughnessBsdf, SheenBsdf};
+    Bsdf, BsdfFlags, BsdfSample, ClearcoatBsdf, DielectricBsdf, MetallicRoughnessBsdf, SheenBsdf,
+};
 use glam::{Vec2, Vec3};
 
 /// The layered glTF BSDF (see the module documentation).

@@ -51,7 +51,6 @@ use std::f32::consts::PI;
 /// The solid angles (sr) for which a triangle is sampled by solid angle rather than by area.
 pub const SOLID_ANGLE_RANGE: (f32, f32) = (3e-4, 6.0);
 
-
 /// One emissive mesh as the constructor sees it: its triangles, where they are drawn, and
 /// whether both faces emit. A mesh that emits nothing is passed with no triangles (so mesh
 /// indices stay those of the scene).
@@ -770,7 +769,11 @@ fn triangle_bounds(light: &TriangleLight, power: f32) -> ClusterBounds {
         } else {
             light.normal
         },
-        cos_theta: if light.normal == Vec3::ZERO { -1.0 } else { 1.0 },
+        cos_theta: if light.normal == Vec3::ZERO {
+            -1.0
+        } else {
+            1.0
+        },
         two_sided: light.two_sided,
         cos_theta_e: 0.0,
         power,

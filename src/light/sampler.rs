@@ -16,8 +16,15 @@
 //!   tree with the rest (pbrt-v4's rule; see docs/lights.md for what other shares measured).
 //!
 //! So every light has one selection probability `P(light | p, n)`, the product along the
-//! choices, and a vertex takes exactly one light sample (one shadow ray), whatever the number
-//! of lights: 64 lamps cost what one does.
+//! choices, and a vertex takes one light sample (one shadow ray) whatever the number of
+//! lights: 64 lamps cost what one does.
+//!
+//! **Few delta lights are split, not chosen.** A scene with at most [`DELTA_SPLIT_MAX`] point,
+//! spot and directional lights samples each of them at every vertex ([`LightSampler::delta`],
+//! probability 1, one shadow ray each) and chooses only among its emitters and environment:
+//! a delta light's sample has no variance but for its visibility, so for a lamp or two the
+//! exhaustive estimate is exact where a chosen one would be noisy, at the same cost. Past
+//! that count they join the tree.
 //!
 //! # Random numbers
 //!
@@ -45,6 +52,10 @@ use glam::{Vec2, Vec3};
 use std::borrow::Cow;
 use std::f32::consts::PI;
 
+/// Delta-light counts up to which every delta light is sampled at every vertex (see the
+/// module doc); more join the light tree and one is chosen.
+pub const DELTA_SPLIT_MAX: usize = 4;
+
 /// A light sample, as the integrator turns it into a shadow ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightSample {
@@ -68,6 +79,9 @@ pub enum LightSample {
 /// The lights of a render and how one of them is chosen (see the module doc).
 #[derive(Clone, Debug, Default)]
 pub struct LightSampler<'a> {
+    /// Delta lights sampled at every vertex (at most [`DELTA_SPLIT_MAX`]; then the others
+    /// below are empty).
+    split: Vec<GeneralLight>,
     /// Point and spot lights, entry `j` of `tree`.
     punctual: Vec<GeneralLight>,
     /// The light BVH over `punctual`.
@@ -95,6 +109,14 @@ impl<'a> LightSampler<'a> {
         area: Option<Cow<'a, AreaLights>>,
         environment: Option<&'a EnvironmentLight>,
     ) -> Self {
+        if lights.general.len() <= DELTA_SPLIT_MAX {
+            return Self {
+                split: lights.general.clone(),
+                area: area.filter(|a| !a.is_empty()),
+                environment,
+                ..Self::default()
+            };
+        }
         let (directional, punctual): (Vec<GeneralLight>, Vec<GeneralLight>) = lights
             .general
             .iter()
@@ -102,6 +124,7 @@ impl<'a> LightSampler<'a> {
         let bounds: Vec<ClusterBounds> = punctual.iter().map(punctual_bounds).collect();
         let tree = LightBvh::over(&bounds);
         Self {
+            split: Vec::new(),
             punctual,
             tree,
             directional,
@@ -120,9 +143,26 @@ impl<'a> LightSampler<'a> {
         self.environment
     }
 
+    /// The delta lights sampled at every vertex (each with probability 1), in scene order:
+    /// their samples at `p`, or why a light does not reach it.
+    #[inline]
+    pub fn delta(&self, p: Vec3) -> impl Iterator<Item = Result<LightSample, NoLightSample>> + '_ {
+        self.split
+            .iter()
+            .map(move |light| delta_sample(light, p, 1.0))
+    }
+
+    /// Whether [`sample`](Self::sample) can draw anything (besides the [`delta`](Self::delta)
+    /// lights).
+    #[inline]
+    pub fn samples(&self) -> bool {
+        self.candidates() > 0
+    }
+
     /// Whether there is no light to sample.
     pub fn is_empty(&self) -> bool {
-        self.punctual.is_empty()
+        self.split.is_empty()
+            && self.punctual.is_empty()
             && self.directional.is_empty()
             && self.area.is_none()
             && self.environment.is_none()
@@ -240,7 +280,8 @@ impl<'a> LightSampler<'a> {
     }
 
     /// One light sample for the point `p` with shading normal `n` (see the module doc for
-    /// `u_choice` and `u`), or why there is none: the chosen delta light does not reach `p`
+    /// `u_choice` and `u`) from every light but the [`delta`](Self::delta) ones, or why there
+    /// is none: the chosen delta light does not reach `p`
     /// (outside its cone, beyond its range), or no light could be drawn.
     #[inline]
     pub fn sample(

@@ -151,8 +151,7 @@ pub fn at_hit<
             Some(l) if TEXTURES && l.has_textures() => {
                 let mut l = layers::at_hit(textures, &at, l);
                 if NORMAL_MAPS {
-                    l.coat_normal =
-                        layers::coat_normal(textures, &at, vertex_ns, material, &frame);
+                    l.coat_normal = layers::coat_normal(textures, &at, vertex_ns, material, &frame);
                 }
                 Some(l)
             }

@@ -100,13 +100,7 @@ mod tests {
         };
         let glass = ShadingMaterial::new(&glass, 0);
         assert!(glass.may_transmit());
-        let b = SurfaceBsdf::new(
-            Vec3::ONE,
-            (0.0, 0.0),
-            &glass,
-            glass.layers.as_ref(),
-            true,
-        );
+        let b = SurfaceBsdf::new(Vec3::ONE, (0.0, 0.0), &glass, glass.layers.as_ref(), true);
         assert!(b.flags().transmits() && b.flags().is_specular_only());
     }
 }

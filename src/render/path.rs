@@ -395,8 +395,8 @@ fn shade<
     });
 }
 
-/// Next-event estimation at a vertex: one light from the light sampler, one shadow ray
-/// carrying its contribution.
+/// Next-event estimation at a vertex: each split delta light, then one light from the light
+/// sampler; each sample is one shadow ray carrying its contribution.
 #[inline(always)]
 fn sample_light<const TEXTURES: bool>(
     ctx: &TileContext<'_>,
@@ -408,6 +408,21 @@ fn sample_light<const TEXTURES: bool>(
     q: &mut Queues<'_>,
 ) {
     let lights = &ctx.lights;
+    let at = Shading {
+        si,
+        frame,
+        wo,
+        bsdf,
+        transmits: bsdf.flags().transmits(),
+        beta: path.beta,
+        pixel: path.pixel,
+    };
+    for sample in lights.delta(si.p) {
+        at.add::<TEXTURES>(ctx, sample, q);
+    }
+    if !lights.samples() {
+        return;
+    }
     let u_choice = if lights.needs_choice() {
         path.stream.next_1d()
     } else {
@@ -418,77 +433,103 @@ fn sample_light<const TEXTURES: bool>(
     } else {
         Vec2::ZERO
     };
-    let sample = match lights.sample(si.p, si.ns, u_choice, u) {
-        Ok(sample) => sample,
-        Err(NoLightSample::Unlit(Unlit::OutsideCone)) => {
-            q.counts.skipped_outside_cone += 1;
-            return;
-        }
-        Err(NoLightSample::Unlit(Unlit::BeyondRange)) => {
-            q.counts.skipped_beyond_range += 1;
-            return;
-        }
-        Err(NoLightSample::Unlit(Unlit::AtLight)) => {
-            q.counts.skipped_facing_away += 1;
-            return;
-        }
-        Err(NoLightSample::None) => return,
-    };
-    let pixel = path.pixel;
-    let transmits = bsdf.flags().transmits();
-    match sample {
-        LightSample::Delta {
-            wi,
-            irradiance,
-            target,
-            probability,
-        } => {
-            if !reachable(si, wi, transmits) {
+    at.add::<TEXTURES>(ctx, lights.sample(si.p, si.ns, u_choice, u), q);
+}
+
+/// A vertex's shading point and BSDF, as light samples are evaluated against them.
+struct Shading<'s> {
+    si: &'s SurfaceInteraction,
+    frame: &'s Frame,
+    wo: Vec3,
+    bsdf: &'s SurfaceBsdf,
+    transmits: bool,
+    beta: Vec3,
+    pixel: u32,
+}
+
+impl Shading<'_> {
+    /// Queues the shadow ray of one light sample with its contribution
+    /// `β · f · |cos θi| · L · w / p` (or counts why there is none).
+    #[inline(always)]
+    fn add<const TEXTURES: bool>(
+        &self,
+        ctx: &TileContext<'_>,
+        sample: Result<LightSample, NoLightSample>,
+        q: &mut Queues<'_>,
+    ) {
+        let (si, bsdf, wo) = (self.si, self.bsdf, self.wo);
+        let sample = match sample {
+            Ok(sample) => sample,
+            Err(NoLightSample::Unlit(Unlit::OutsideCone)) => {
+                q.counts.skipped_outside_cone += 1;
+                return;
+            }
+            Err(NoLightSample::Unlit(Unlit::BeyondRange)) => {
+                q.counts.skipped_beyond_range += 1;
+                return;
+            }
+            Err(NoLightSample::Unlit(Unlit::AtLight)) => {
                 q.counts.skipped_facing_away += 1;
                 return;
             }
-            let wl = frame.to_local(wi);
-            let value = path.beta * bsdf.eval(wo, wl) * irradiance * (wl.z.abs() / probability);
-            if value == Vec3::ZERO || !value.is_finite() {
-                return;
+            Err(NoLightSample::None) => return,
+        };
+        match sample {
+            LightSample::Delta {
+                wi,
+                irradiance,
+                target,
+                probability,
+            } => {
+                if !reachable(si, wi, self.transmits) {
+                    q.counts.skipped_facing_away += 1;
+                    return;
+                }
+                let wl = self.frame.to_local(wi);
+                let value = self.beta * bsdf.eval(wo, wl) * irradiance * (wl.z.abs() / probability);
+                if value == Vec3::ZERO || !value.is_finite() {
+                    return;
+                }
+                let ray = match target {
+                    ShadowTarget::Point(position) => {
+                        spawn_ray_to(si.p, si.p_error, si.ng, position)
+                    }
+                    ShadowTarget::Infinity => spawn_ray(si.p, si.p_error, si.ng, wi),
+                };
+                q.shadows.push(ray, self.pixel, value);
             }
-            let ray = match target {
-                ShadowTarget::Point(position) => spawn_ray_to(si.p, si.p_error, si.ng, position),
-                ShadowTarget::Infinity => spawn_ray(si.p, si.p_error, si.ng, wi),
-            };
-            q.shadows.push(ray, pixel, value);
-        }
-        LightSample::Area(ls) => {
-            if !reachable(si, ls.wi, transmits) {
-                return;
+            LightSample::Area(ls) => {
+                if !reachable(si, ls.wi, self.transmits) {
+                    return;
+                }
+                let le = emitted_at::<TEXTURES>(ctx, &ls);
+                let wl = self.frame.to_local(ls.wi);
+                let f = bsdf.eval(wo, wl);
+                if le == Vec3::ZERO || f == Vec3::ZERO {
+                    return;
+                }
+                let w = light_sample_weight(ctx, ls.pdf, bsdf.pdf(wo, wl));
+                let value = self.beta * f * le * (wl.z.abs() * w / ls.pdf);
+                if value.is_finite() {
+                    let ray = spawn_ray_to(si.p, si.p_error, si.ng, ls.point);
+                    q.shadows.push(ray, self.pixel, value);
+                }
             }
-            let le = emitted_at::<TEXTURES>(ctx, &ls);
-            let wl = frame.to_local(ls.wi);
-            let f = bsdf.eval(wo, wl);
-            if le == Vec3::ZERO || f == Vec3::ZERO {
-                return;
-            }
-            let w = light_sample_weight(ctx, ls.pdf, bsdf.pdf(wo, wl));
-            let value = path.beta * f * le * (wl.z.abs() * w / ls.pdf);
-            if value.is_finite() {
-                q.shadows
-                    .push(spawn_ray_to(si.p, si.p_error, si.ng, ls.point), pixel, value);
-            }
-        }
-        LightSample::Environment(es) => {
-            if !reachable(si, es.wi, transmits) {
-                return;
-            }
-            let wl = frame.to_local(es.wi);
-            let f = bsdf.eval(wo, wl);
-            if f == Vec3::ZERO || es.radiance == Vec3::ZERO {
-                return;
-            }
-            let w = light_sample_weight(ctx, es.pdf, bsdf.pdf(wo, wl));
-            let value = path.beta * f * es.radiance * (wl.z.abs() * w / es.pdf);
-            if value.is_finite() {
-                q.shadows
-                    .push(spawn_ray(si.p, si.p_error, si.ng, es.wi), pixel, value);
+            LightSample::Environment(es) => {
+                if !reachable(si, es.wi, self.transmits) {
+                    return;
+                }
+                let wl = self.frame.to_local(es.wi);
+                let f = bsdf.eval(wo, wl);
+                if f == Vec3::ZERO || es.radiance == Vec3::ZERO {
+                    return;
+                }
+                let w = light_sample_weight(ctx, es.pdf, bsdf.pdf(wo, wl));
+                let value = self.beta * f * es.radiance * (wl.z.abs() * w / es.pdf);
+                if value.is_finite() {
+                    let ray = spawn_ray(si.p, si.p_error, si.ng, es.wi);
+                    q.shadows.push(ray, self.pixel, value);
+                }
             }
         }
     }

@@ -7,11 +7,11 @@
 use super::film::{Film, TileSums};
 use super::filter::FilterSampler;
 use super::ids;
-use super::path::PathScratch;
-use super::wavefront::{Pass, TileContext, Transport};
 use super::kernel::{self, KernelFlags, TileFn};
+use super::path::PathScratch;
 use super::stats::{RayCounts, RenderStats};
 use super::tiles::{self, Tile};
+use super::wavefront::{Pass, TileContext, Transport};
 use super::{
     CameraRays, PixelSampler, Progress, RenderError, RenderInputs, RenderOutput, RenderSettings,
     thread_pool, validate,

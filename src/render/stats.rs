@@ -203,6 +203,9 @@ mod tests {
         ] {
             assert!(line.contains(part), "missing '{part}' in: {line}");
         }
-        assert!(line.contains("no emitters: no area-light sampling"), "{line}");
+        assert!(
+            line.contains("no emitters: no area-light sampling"),
+            "{line}"
+        );
     }
 }

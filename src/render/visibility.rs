@@ -59,10 +59,10 @@
 //! BLEND, 0 or 1 for MASK) scales a sampled point's radiance, the expected value of what a
 //! BSDF-sampled ray that hits it finds.
 
-use super::wavefront::TileContext;
 use super::sampler::mix64;
 use super::stats::RayCounts;
 use super::tiles::Tile;
+use super::wavefront::TileContext;
 use crate::accel::{Hit, Ray};
 use crate::geometry::SurfaceInteraction;
 use crate::scene::{AlphaMode, Material, Mesh, Scene, TextureRef};
