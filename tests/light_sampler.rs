@@ -61,8 +61,11 @@ fn lights() -> Vec<Light> {
     lights
 }
 
-/// The emissive mesh: a two-sided quad above the origin and a one-sided triangle facing it.
-fn emitters() -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<Vec3>, Vec<[u32; 3]>) {
+/// Positions and triangles of one emissive mesh.
+type Triangles = (Vec<Vec3>, Vec<[u32; 3]>);
+
+/// The emissive meshes: a two-sided quad above the origin and a one-sided triangle facing it.
+fn emitters() -> (Triangles, Triangles) {
     let quad = vec![
         Vec3::new(-1.0, 3.0, -1.0),
         Vec3::new(1.0, 3.0, -1.0),
@@ -74,11 +77,11 @@ fn emitters() -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<Vec3>, Vec<[u32; 3]>) {
         Vec3::new(3.0, 2.0, 1.0),
         Vec3::new(3.0, 0.5, 1.0),
     ];
-    (quad, vec![[0, 1, 2], [0, 2, 3]], tri, vec![[0, 1, 2]])
+    ((quad, vec![[0, 1, 2], [0, 2, 3]]), (tri, vec![[0, 1, 2]]))
 }
 
 fn area_lights() -> AreaLights {
-    let (qp, qi, tp, ti) = emitters();
+    let ((qp, qi), (tp, ti)) = emitters();
     let meshes = [
         EmitterMesh {
             positions: &qp,
