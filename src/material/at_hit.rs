@@ -17,9 +17,9 @@
 //! shade the same BSDF and differ only in which lobes they continue through. This is
 //! pbrt-v4's `SurfaceInteraction::GetBSDF` and Mitsuba's `si.bsdf()` in glint's terms.
 //!
-//! The const switches (`TEXTURES`, `VERTEX_COLORS`, `SHADING_NORMALS`, `NORMAL_MAPS`) let a
-//! kernel specialised for a scene leave out work the scene cannot need; with every switch on
-//! the result is the same for every scene.
+//! Work a hit does not need is skipped where it is decided: a mesh without NORMAL or COLOR_0
+//! interpolates neither, a material without a texture reads none, a ray without a
+//! differential has no footprint.
 
 use super::scattering::SurfaceBsdf;
 use super::{ShadingMaterial, layers, normal_map};
@@ -72,30 +72,21 @@ pub struct SurfaceAtHit {
 /// The surface at `q`'s hit (see the module doc); `None` when the hit cannot be shaded (a
 /// triangle outside the mesh, or one without a normal).
 #[inline(always)]
-pub fn at_hit<
-    const TEXTURES: bool,
-    const VERTEX_COLORS: bool,
-    const SHADING_NORMALS: bool,
-    const NORMAL_MAPS: bool,
->(
-    textures: &TextureEvaluator<'_>,
-    q: &HitQuery<'_>,
-) -> Option<SurfaceAtHit> {
+pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<SurfaceAtHit> {
     let (mesh, material) = (q.mesh, q.material);
     let mut si = SurfaceInteraction::from_hit(mesh, q.hit, q.dir)?;
-    if SHADING_NORMALS && let Some(normals) = &mesh.normals {
+    if let Some(normals) = &mesh.normals {
         si.ns = shading_normal(&si, normals);
     }
     let lit = si.front_face || material.double_sided || material.may_transmit();
-    let footprint = if TEXTURES {
-        q.differential.and_then(|rd| Footprint::at(mesh, &si, rd))
-    } else {
-        None
-    };
+    let footprint = q
+        .differential
+        .filter(|_| material.textured())
+        .and_then(|rd| Footprint::at(mesh, &si, rd));
     // The interpolated normal, before the base's normal map: a clear coat's normal map
     // perturbs this one.
     let vertex_ns = si.ns;
-    let mapped_tangent = if NORMAL_MAPS && TEXTURES {
+    let mapped_tangent = {
         let at = TexturePoint {
             mesh,
             si: &si,
@@ -105,8 +96,6 @@ pub fn at_hit<
             si.ns = ns;
             tangent
         })
-    } else {
-        None
     };
     let at = TexturePoint {
         mesh,
@@ -115,23 +104,21 @@ pub fn at_hit<
     };
 
     let mut albedo = material.base_color;
-    if VERTEX_COLORS && let Some(colors) = &mesh.colors {
+    if let Some(colors) = &mesh.colors {
         albedo *= si.interpolate(colors).unwrap_or(Vec4::ONE).truncate();
     }
     let mut emission = material.emissive;
-    if TEXTURES {
-        if let Some(t) = &material.base_color_texture {
-            albedo *= textures.value(&at, t).truncate();
-        }
-        if lit
-            && emission != Vec3::ZERO
-            && let Some(t) = &material.emissive_texture
-        {
-            emission *= textures.value(&at, t).truncate();
-        }
-        if let Some(procedural) = &material.procedural {
-            albedo *= textures.procedural(&at, procedural);
-        }
+    if let Some(t) = &material.base_color_texture {
+        albedo *= textures.value(&at, t).truncate();
+    }
+    if lit
+        && emission != Vec3::ZERO
+        && let Some(t) = &material.emissive_texture
+    {
+        emission *= textures.value(&at, t).truncate();
+    }
+    if let Some(procedural) = &material.procedural {
+        albedo *= textures.procedural(&at, procedural);
     }
     if !lit || material.unlit {
         // Unlit materials ignore their emissive factor: their ρ is what leaves them.
@@ -142,17 +129,11 @@ pub fn at_hit<
         None => Frame::from_normal(si.ns),
     };
     let bsdf = (q.scatters && lit && !material.unlit).then(|| {
-        let metallic_roughness = if TEXTURES {
-            metallic_roughness(textures, &at, material)
-        } else {
-            (material.metallic, material.roughness)
-        };
+        let metallic_roughness = metallic_roughness(textures, &at, material);
         let layers = match &material.layers {
-            Some(l) if TEXTURES && l.has_textures() => {
+            Some(l) if l.has_textures() => {
                 let mut l = layers::at_hit(textures, &at, l);
-                if NORMAL_MAPS {
-                    l.coat_normal = layers::coat_normal(textures, &at, vertex_ns, material, &frame);
-                }
+                l.coat_normal = layers::coat_normal(textures, &at, vertex_ns, material, &frame);
                 Some(l)
             }
             other => *other,

@@ -90,6 +90,18 @@ impl ShadingMaterial {
         self.layers.is_some_and(|l| l.transmits())
     }
 
+    /// Whether the material reads any texture at a hit (then a ray's differential is worth
+    /// turning into a footprint).
+    #[inline]
+    pub fn textured(&self) -> bool {
+        self.base_color_texture.is_some()
+            || self.metallic_roughness_texture.is_some()
+            || self.emissive_texture.is_some()
+            || self.normal_texture.is_some()
+            || self.procedural.is_some()
+            || self.layers.is_some_and(|l| l.has_textures())
+    }
+
     /// The materials of `scene`, plus glTF's default material at the end for meshes whose
     /// material index is out of range (see [`material_index`]).
     pub fn table(scene: &Scene) -> Vec<ShadingMaterial> {

@@ -1,18 +1,17 @@
-//! Shading kernels specialised for what a scene uses.
+//! What per-hit work a render does, from the scene's features: texture lookups (and so MIP
+//! chains and ray differentials), vertex colours, shading normals, normal maps, area-light and
+//! environment sampling, alpha tests and back-face culling ([`KernelFlags`]). The summary line
+//! names what was left out.
 //!
-//! The path kernel ([`super::path`], which is also the direct integrator) is generic over
-//! four compile-time switches: texture lookups, vertex colours, interpolated shading normals
-//! and normal maps (tangent frames; only in instances with textures). `select` picks the
-//! instance whose switches match the scene's [`SceneFeatures`], so per-hit work the scene
-//! cannot need is not compiled into the loop that runs. The general kernel turns every
-//! switch on: it gives the same image and exists to measure what the specialisation buys
-//! (`bench::render::kernel_bench`).
+//! There is one shading kernel (`path::render_tile`). Until issue 21 it was compiled in 12
+//! instances (and the classic direct kernel in 24) with const switches for textures, vertex
+//! colours, shading normals and normal maps; `glint bench render` measured the general
+//! instance within noise of the specialised ones (Suzanne 0.98×, 2CylinderEngine 0.91×,
+//! DamagedHelmet 1.07× with alpha tests and culling also on), the per-hit checks being
+//! branches on data the hit reads anyway, so the instances went. [`KernelChoice::General`]
+//! still turns every flag on (textures, alpha tests and culling for every mesh): it gives the
+//! same image and measures what deciding per scene buys (`bench::render::kernel_bench`).
 
-use super::film::TileSums;
-use super::path::PathScratch;
-use super::stats::RayCounts;
-use super::tiles::Tile;
-use super::wavefront::{Pass, TileContext};
 use crate::scene::SceneFeatures;
 
 /// Which kernel renders.
@@ -73,35 +72,5 @@ impl KernelFlags {
                 cull_back_faces: true,
             },
         }
-    }
-}
-
-/// A tile renderer: one monomorphised instance of the path kernel.
-pub(crate) type TileFn =
-    fn(&TileContext<'_>, Pass, &Tile, &mut PathScratch) -> (TileSums, RayCounts);
-
-/// The instance for `flags`. Normal maps are texture lookups, so their instances exist only
-/// with textures on.
-pub(crate) fn select(flags: &KernelFlags) -> TileFn {
-    use super::path::render_tile_path;
-    let normal_maps = flags.normal_maps && flags.textures;
-    match (
-        flags.textures,
-        flags.vertex_colors,
-        flags.shading_normals,
-        normal_maps,
-    ) {
-        (false, false, false, _) => render_tile_path::<false, false, false, false>,
-        (false, false, true, _) => render_tile_path::<false, false, true, false>,
-        (false, true, false, _) => render_tile_path::<false, true, false, false>,
-        (false, true, true, _) => render_tile_path::<false, true, true, false>,
-        (true, false, false, false) => render_tile_path::<true, false, false, false>,
-        (true, false, true, false) => render_tile_path::<true, false, true, false>,
-        (true, true, false, false) => render_tile_path::<true, true, false, false>,
-        (true, true, true, false) => render_tile_path::<true, true, true, false>,
-        (true, false, false, true) => render_tile_path::<true, false, false, true>,
-        (true, false, true, true) => render_tile_path::<true, false, true, true>,
-        (true, true, false, true) => render_tile_path::<true, true, false, true>,
-        (true, true, true, true) => render_tile_path::<true, true, true, true>,
     }
 }

@@ -107,14 +107,8 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }
 
-/// Renders one tile with the path tracer. The const switches remove per-hit work the scene
-/// does not need (see [`super::kernel`]).
-pub(crate) fn render_tile_path<
-    const TEXTURES: bool,
-    const VERTEX_COLORS: bool,
-    const SHADING_NORMALS: bool,
-    const NORMAL_MAPS: bool,
->(
+/// Renders one tile with the path tracer (or the direct integrator, see the module doc).
+pub(crate) fn render_tile(
     ctx: &TileContext<'_>,
     pass: Pass,
     tile: &Tile,
@@ -122,9 +116,10 @@ pub(crate) fn render_tile_path<
 ) -> (TileSums, RayCounts) {
     let mut sums = TileSums::new(tile.pixel_count(), ctx.aovs);
     let mut counts = RayCounts::default();
-    // Camera rays carry differentials for their first hit's texture footprint; bounce rays
-    // look textures up at the finest level.
-    let carry = TEXTURES && ctx.differentials;
+    // Camera rays carry differentials for their first hit's texture footprint (scenes with
+    // textures and a filter that reads footprints); bounce rays look textures up at the
+    // finest level.
+    let carry = ctx.differentials;
     for sample in pass.first_sample..pass.first_sample.saturating_add(pass.spp) {
         s.rays.clear();
         s.paths.clear();
@@ -176,7 +171,7 @@ pub(crate) fn render_tile_path<
                     depth,
                     differential,
                 };
-                shade::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS, NORMAL_MAPS>(
+                shade(
                     ctx,
                     &mut vertex,
                     &mut sums,
@@ -268,17 +263,7 @@ struct Queues<'q> {
 /// One path vertex, as pbrt-v4's `PathIntegrator::Li` reads: the surface front end, emission
 /// with MIS, a light sample unless every lobe is specular, the continuation.
 #[inline(always)]
-fn shade<
-    const TEXTURES: bool,
-    const VERTEX_COLORS: bool,
-    const SHADING_NORMALS: bool,
-    const NORMAL_MAPS: bool,
->(
-    ctx: &TileContext<'_>,
-    v: &mut Vertex<'_>,
-    sums: &mut TileSums,
-    q: &mut Queues<'_>,
-) {
+fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut Queues<'_>) {
     let (hit, transport) = (v.hit, &ctx.transport);
     let Some(mesh) = ctx.scene.meshes.get(hit.geom_id as usize) else {
         return;
@@ -298,9 +283,7 @@ fn shade<
         differential: v.differential,
         scatters: lights_vertex,
     };
-    let Some(surface) =
-        at_hit::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS, NORMAL_MAPS>(&ctx.textures(), &query)
-    else {
+    let Some(surface) = at_hit(&ctx.textures(), &query) else {
         return;
     };
     let si = &surface.si;
@@ -343,7 +326,7 @@ fn shade<
     let frame = &surface.frame;
     let wo = frame.to_local(si.wo);
     if bsdf.flags().has_density() {
-        sample_light::<TEXTURES>(ctx, si, frame, wo, bsdf, path, q);
+        sample_light(ctx, si, frame, wo, bsdf, path, q);
     }
 
     // The continuation: the path tracer samples the whole BSDF, the direct integrator follows
@@ -398,7 +381,7 @@ fn shade<
 /// Next-event estimation at a vertex: each split delta light, then one light from the light
 /// sampler; each sample is one shadow ray carrying its contribution.
 #[inline(always)]
-fn sample_light<const TEXTURES: bool>(
+fn sample_light(
     ctx: &TileContext<'_>,
     si: &SurfaceInteraction,
     frame: &Frame,
@@ -418,7 +401,7 @@ fn sample_light<const TEXTURES: bool>(
         pixel: path.pixel,
     };
     for sample in lights.delta(si.p) {
-        at.add::<TEXTURES>(ctx, sample, q);
+        at.add(ctx, sample, q);
     }
     if !lights.samples() {
         return;
@@ -433,7 +416,7 @@ fn sample_light<const TEXTURES: bool>(
     } else {
         Vec2::ZERO
     };
-    at.add::<TEXTURES>(ctx, lights.sample(si.p, si.ns, u_choice, u), q);
+    at.add(ctx, lights.sample(si.p, si.ns, u_choice, u), q);
 }
 
 /// A vertex's shading point and BSDF, as light samples are evaluated against them.
@@ -451,7 +434,7 @@ impl Shading<'_> {
     /// Queues the shadow ray of one light sample with its contribution
     /// `β · f · |cos θi| · L · w / p` (or counts why there is none).
     #[inline(always)]
-    fn add<const TEXTURES: bool>(
+    fn add(
         &self,
         ctx: &TileContext<'_>,
         sample: Result<LightSample, NoLightSample>,
@@ -502,7 +485,7 @@ impl Shading<'_> {
                 if !reachable(si, ls.wi, self.transmits) {
                     return;
                 }
-                let le = emitted_at::<TEXTURES>(ctx, &ls);
+                let le = emitted_at(ctx, &ls);
                 let wl = self.frame.to_local(ls.wi);
                 let f = bsdf.eval(wo, wl);
                 if le == Vec3::ZERO || f == Vec3::ZERO {
@@ -547,7 +530,7 @@ fn reachable(si: &SurfaceInteraction, wi: Vec3, transmits: bool) -> bool {
 /// The radiance the sampled emitter point `ls` sends toward `-ls.wi` (back to the
 /// shading point): its material's emission, textured, on a lit side only.
 #[inline]
-fn emitted_at<const TEXTURES: bool>(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
+fn emitted_at(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
     let Some(mesh) = ctx.scene.meshes.get(ls.mesh as usize) else {
         return Vec3::ZERO;
     };
@@ -574,7 +557,7 @@ fn emitted_at<const TEXTURES: bool>(ctx: &TileContext<'_>, ls: &AreaSample) -> V
         vertices,
         placement: None,
     };
-    if TEXTURES && let Some(t) = &material.emissive_texture {
+    if let Some(t) = &material.emissive_texture {
         let at = TexturePoint {
             mesh,
             si: &si,

@@ -37,7 +37,7 @@ pub enum PixelSampling {
 /// Sobol dimensions of the pixel position (x, y). Later uses (lens, light) take the next ones.
 pub const DIM_PIXEL: u32 = 0;
 // The pixel position is read as the first pair of a 4D set (`sample_4d`).
-const _: () = assert!(DIM_PIXEL % 4 == 0);
+const _: () = assert!(DIM_PIXEL.is_multiple_of(4));
 
 /// Sobol points per scramble seed: `sobol_burley` indexes at most 2¹⁶ samples, so longer
 /// renders move to a fresh, independently scrambled sequence every 2¹⁶ samples.

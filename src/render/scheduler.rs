@@ -7,7 +7,7 @@
 use super::film::{Film, TileSums};
 use super::filter::FilterSampler;
 use super::ids;
-use super::kernel::{self, KernelFlags, TileFn};
+use super::kernel::KernelFlags;
 use super::path::PathScratch;
 use super::stats::{RayCounts, RenderStats};
 use super::tiles::{self, Tile};
@@ -29,7 +29,6 @@ use std::time::{Duration, Instant};
 /// Renders passes of samples tile by tile on a thread pool and accumulates them in one film.
 pub struct TileScheduler<'a> {
     ctx: TileContext<'a>,
-    render_tile: TileFn,
     pool: Pool<'a>,
     tiles: Vec<Tile>,
     /// Samples per pixel rendered so far: the next pass starts at this index.
@@ -169,7 +168,6 @@ impl<'a> TileScheduler<'a> {
         };
         Ok(Self {
             ctx,
-            render_tile: kernel::select(&flags),
             pool,
             tiles: tiles::tiles(settings.width, settings.height, tiles::TILE_SIZE),
             next_sample: 0,
@@ -221,7 +219,7 @@ impl<'a> TileScheduler<'a> {
         if self.cancelled() {
             return;
         }
-        let (ctx, render_tile, tiles) = (&self.ctx, self.render_tile, &self.tiles);
+        let (ctx, tiles) = (&self.ctx, &self.tiles);
         let (cancel, trace_ids) = (self.cancel, self.ids_pending);
         let done = AtomicUsize::new(0);
         let start = Instant::now();
@@ -233,7 +231,7 @@ impl<'a> TileScheduler<'a> {
                         // The render is abandoned: its film is never returned.
                         return (TileSums::default(), RayCounts::default());
                     }
-                    let mut result = render_tile(ctx, pass, tile, scratch);
+                    let mut result = super::path::render_tile(ctx, pass, tile, scratch);
                     if trace_ids {
                         let (sums, counts) = &mut result;
                         ids::trace_centre_ids(ctx, ctx.aovs, tile, sums, counts);
