@@ -165,7 +165,7 @@ fn the_sampler_estimates_the_sum_of_every_light() {
     for (k, (p, n)) in points().into_iter().enumerate() {
         // Delta lights in closed form.
         let delta: Vec3 = set
-            .general
+            .lights
             .iter()
             .filter_map(|l| l.incident(p).ok())
             .map(|i| i.irradiance * n.dot(i.wi).max(0.0))

@@ -109,16 +109,16 @@ impl<'a> LightSampler<'a> {
         area: Option<Cow<'a, AreaLights>>,
         environment: Option<&'a EnvironmentLight>,
     ) -> Self {
-        if lights.general.len() <= DELTA_SPLIT_MAX {
+        if lights.lights.len() <= DELTA_SPLIT_MAX {
             return Self {
-                split: lights.general.clone(),
+                split: lights.lights.clone(),
                 area: area.filter(|a| !a.is_empty()),
                 environment,
                 ..Self::default()
             };
         }
         let (directional, punctual): (Vec<GeneralLight>, Vec<GeneralLight>) = lights
-            .general
+            .lights
             .iter()
             .partition(|l| matches!(l, GeneralLight::Directional(_)));
         let bounds: Vec<ClusterBounds> = punctual.iter().map(punctual_bounds).collect();
