@@ -122,7 +122,7 @@ impl Distribution1D {
         // rounding of k = ⌊u·n⌋); the count is the same as over the whole table.
         let n = self.func.len();
         let g = self.guide.len();
-        let (lo, hi) = if g == n && u >= 0.0 && u < 1.0 {
+        let (lo, hi) = if g == n && (0.0..1.0).contains(&u) {
             let k = (u * n as f32) as usize;
             let lo = self.guide[k.saturating_sub(1).min(g - 1)] as usize;
             let hi = if k + 2 < g {
