@@ -147,9 +147,20 @@ fn sample_many(sampler: &LightSampler, p: Vec3, n: Vec3, count: usize, seed: u64
         .map(|_| {
             let u_choice = rng.random::<f32>();
             let u = Vec2::new(rng.random(), rng.random());
-            sampler
-                .sample(p, n, u_choice, u)
-                .map_or(Vec3::ZERO, |s| estimate(&s, n))
+            // Every kind's sample (and every split delta light) adds to one estimate.
+            let split: Vec3 = sampler
+                .delta(p)
+                .filter_map(Result::ok)
+                .map(|s| estimate(&s, n))
+                .sum();
+            let kinds: Vec3 = sampler
+                .kinds()
+                .into_iter()
+                .flatten()
+                .filter_map(|kind| sampler.sample(kind, p, n, u_choice, u).ok())
+                .map(|s| estimate(&s, n))
+                .sum();
+            split + kinds
         })
         .collect()
 }
@@ -202,39 +213,48 @@ fn densities_the_sampler_reports_are_those_it_samples_with() {
     let count = 200_000usize;
     let mut chosen: Vec<(f32, [i64; 3])> = Vec::new();
     let mut delta_total = 0usize;
+    let mut env_samples = 0usize;
     for _ in 0..count {
         let u_choice = rng.random::<f32>();
         let u = Vec2::new(rng.random(), rng.random());
-        let Ok(sample) = sampler.sample(p, n, u_choice, u) else {
-            continue;
-        };
-        match sample {
-            LightSample::Delta {
-                wi, probability, ..
-            } => {
-                delta_total += 1;
-                // Lights are told apart by their direction from p (no two coincide here).
-                let key = [wi.x, wi.y, wi.z].map(|c| (c * 1e4).round() as i64);
-                chosen.push((probability, key));
-            }
-            LightSample::Area(ls) => {
-                let pdf = sampler.area_pdf(p, n, (ls.mesh, ls.instance, ls.triangle), ls.point);
-                assert!(
-                    (pdf - ls.pdf).abs() <= 1e-4 * ls.pdf,
-                    "area pdf {pdf} vs sampled {}",
-                    ls.pdf
-                );
-            }
-            LightSample::Environment(es) => {
-                let pdf = sampler.environment_pdf(es.wi);
-                assert!(
-                    (pdf - es.pdf).abs() <= 1e-5 * es.pdf,
-                    "environment pdf {pdf} vs sampled {}",
-                    es.pdf
-                );
+        let samples = [
+            sampler.sample_finite(p, n, u_choice, u),
+            sampler.sample_infinite(p, u_choice, u),
+        ];
+        for sample in samples.into_iter().filter_map(Result::ok) {
+            match sample {
+                LightSample::Delta {
+                    wi, probability, ..
+                } => {
+                    delta_total += 1;
+                    // Lights are told apart by their direction from p (no two coincide here).
+                    let key = [wi.x, wi.y, wi.z].map(|c| (c * 1e4).round() as i64);
+                    chosen.push((probability, key));
+                }
+                LightSample::Area(ls) => {
+                    let pdf = sampler.area_pdf(p, n, (ls.mesh, ls.instance, ls.triangle), ls.point);
+                    assert!(
+                        (pdf - ls.pdf).abs() <= 1e-4 * ls.pdf,
+                        "area pdf {pdf} vs sampled {}",
+                        ls.pdf
+                    );
+                }
+                LightSample::Environment(es) => {
+                    env_samples += 1;
+                    let pdf = sampler.environment_pdf(es.wi);
+                    assert!(
+                        (pdf - es.pdf).abs() <= 1e-5 * es.pdf,
+                        "environment pdf {pdf} vs sampled {}",
+                        es.pdf
+                    );
+                }
             }
         }
     }
+    assert_eq!(
+        env_samples, count,
+        "the environment is the one infinite light"
+    );
     // Group the delta samples by light and compare frequencies with probabilities.
     chosen.sort_by_key(|&(_, key)| key);
     let mut chi2 = 0.0f64;
@@ -285,7 +305,7 @@ fn one_light_consumes_no_random_numbers_and_is_exact() {
     }];
     let set = LightSet::new(&lights, LightUnits::Radiometric).unwrap();
     let sampler = LightSampler::new(&set, None, None);
-    assert!(!sampler.needs_choice() && !sampler.needs_position() && !sampler.samples());
+    assert_eq!(sampler.kinds(), [None, None]);
     let samples: Vec<_> = sampler.delta(Vec3::ZERO).collect();
     assert_eq!(samples.len(), 1);
     let Ok(LightSample::Delta {
@@ -326,9 +346,11 @@ fn few_delta_lights_are_each_sampled_and_the_rest_chosen() {
             ..
         })
     )));
-    assert!(!sampler.needs_choice() && sampler.needs_position());
+    let [finite, infinite] = sampler.kinds();
+    let infinite = infinite.unwrap();
+    assert!(finite.is_none() && !infinite.needs_choice && infinite.needs_position);
     let s = sampler
-        .sample(Vec3::ZERO, Vec3::Y, 0.3, Vec2::new(0.2, 0.7))
+        .sample(infinite, Vec3::ZERO, Vec3::Y, 0.3, Vec2::new(0.2, 0.7))
         .unwrap();
     assert!(matches!(s, LightSample::Environment(_)));
     // Past DELTA_SPLIT_MAX they are chosen instead.
@@ -342,5 +364,5 @@ fn few_delta_lights_are_each_sampled_and_the_rest_chosen() {
     let set = LightSet::new(&many, LightUnits::Radiometric).unwrap();
     let sampler = LightSampler::new(&set, None, None);
     assert_eq!(sampler.delta(Vec3::ZERO).count(), 0);
-    assert!(sampler.needs_choice());
+    assert!(sampler.kinds()[0].is_some_and(|k| k.finite && k.needs_choice));
 }

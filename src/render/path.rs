@@ -19,7 +19,8 @@
 //!   power-heuristic weight of the BSDF sample against the light sampler's density for the
 //!   point it hit (area lights, the environment when the ray escapes).
 //! - **Light sampling** (next-event estimation), while the depth is below `max_depth` and the
-//!   BSDF has a lobe with a density: one light chosen by the light sampler, one shadow ray,
+//!   BSDF has a lobe with a density: the few delta lights each, then one finite and one
+//!   infinite light chosen by the light sampler, one shadow ray per sample,
 //!   `β · f(ωo, ωi) · |cos θi| · L · w / p_light`, with `p_light` the selection probability
 //!   (times the solid-angle density for area and environment samples) and `w` the power
 //!   heuristic of `p_light` against the BSDF's density `p_bsdf(ωi)` (1 for delta lights).
@@ -378,8 +379,9 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
     });
 }
 
-/// Next-event estimation at a vertex: each split delta light, then one light from the light
-/// sampler; each sample is one shadow ray carrying its contribution.
+/// Next-event estimation at a vertex: each split delta light, then one sample of each kind of
+/// light (finite, infinite) from the light sampler; each sample is one shadow ray carrying its
+/// contribution.
 #[inline(always)]
 fn sample_light(
     ctx: &TileContext<'_>,
@@ -403,20 +405,19 @@ fn sample_light(
     for sample in lights.delta(si.p) {
         at.add(ctx, sample, q);
     }
-    if !lights.samples() {
-        return;
+    for kind in lights.kinds().into_iter().flatten() {
+        let u_choice = if kind.needs_choice {
+            path.stream.next_1d()
+        } else {
+            0.0
+        };
+        let u = if kind.needs_position {
+            path.stream.next_2d()
+        } else {
+            Vec2::ZERO
+        };
+        at.add(ctx, lights.sample(kind, si.p, si.ns, u_choice, u), q);
     }
-    let u_choice = if lights.needs_choice() {
-        path.stream.next_1d()
-    } else {
-        0.0
-    };
-    let u = if lights.needs_position() {
-        path.stream.next_2d()
-    } else {
-        Vec2::ZERO
-    };
-    at.add(ctx, lights.sample(si.p, si.ns, u_choice, u), q);
 }
 
 /// A vertex's shading point and BSDF, as light samples are evaluated against them.
