@@ -11,6 +11,7 @@ pub mod batch;
 pub mod bench;
 pub mod bsdf;
 pub mod cli;
+pub mod color;
 pub mod converge;
 pub mod geometry;
 pub mod job;

@@ -1,10 +1,13 @@
-//! The renderer: direct illumination from punctual lights, mirror reflections and emission,
-//! in radiometric units (radiance in W/(m²·sr)).
+//! The renderer: the rendering equation by path tracing, or direct light only, in radiometric
+//! units (radiance in W/(m²·sr)).
 //!
 //! - [`prepare`]: scene → acceleration structure (reusable across renders).
 //! - [`render`]: one image of a prepared scene through one camera.
 //! - [`camera`], [`sampler`], [`film`], [`tiles`]: the pieces, each a small type.
-//! - [`kernel`]: the shading kernel specialised for the scene's features.
+//! - `wavefront`: the skeleton every integrator runs on (camera samples, batched tracing,
+//!   shadow batches, first-hit AOVs); [`path`]: the integrator (path tracing, or direct light
+//!   with `Integrator::Direct`).
+//! - [`kernel`]: which per-hit work a scene needs.
 //! - [`stats`]: what a render traced and what it skipped.
 //!
 //! Tiles render in parallel on a dedicated rayon pool of [`RenderSettings::threads`] threads.
@@ -13,11 +16,8 @@ pub mod camera;
 pub mod film;
 pub mod filter;
 pub mod ids;
-pub(crate) mod integrator;
 pub mod kernel;
-mod layer_textures;
 pub mod medium;
-mod normal_maps;
 pub mod partial;
 pub mod path;
 pub mod progressive;
@@ -26,6 +26,7 @@ pub mod scheduler;
 pub mod stats;
 pub mod tiles;
 pub(crate) mod visibility;
+pub(crate) mod wavefront;
 
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};

@@ -53,8 +53,7 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 use std::path::{Path, PathBuf};
 
-/// Rec. 709 luminance weights, for the sampling weights.
-const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+use crate::color::LUMINANCE;
 
 /// An environment that cannot be used.
 #[derive(Debug, thiserror::Error)]
