@@ -49,7 +49,7 @@ use super::wavefront::{
     Pass, ShadowQueue, TileContext, camera_sample, record_first_hit, trace_batch,
 };
 use crate::accel::{Hit, Ray};
-use crate::bsdf::{Bsdf, Frame};
+use crate::bsdf::{Bsdf, BsdfFlags, Frame};
 use crate::geometry::{SurfaceInteraction, spawn_ray, spawn_ray_to};
 use crate::light::area::AreaSample;
 use crate::light::{LightSample, NoLightSample, ShadowTarget, Unlit};
@@ -333,6 +333,12 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
     // The continuation: the path tracer samples the whole BSDF, the direct integrator follows
     // delta lobes only, up to max_depth reflections.
     if v.depth >= transport.max_depth {
+        return;
+    }
+    // The direct integrator continues through delta lobes only: a BSDF without one ends the
+    // path here (its sample would be drawn only to be discarded; nothing is drawn after it,
+    // so skipping it changes no image).
+    if transport.direct_only() && !bsdf.flags().contains(BsdfFlags::SPECULAR) {
         return;
     }
     let u_lobe = path.stream.next_1d();
