@@ -1,6 +1,6 @@
 //! Materials: glTF's metallic-roughness materials (with their KHR_materials extensions)
 //! prepared once per render ([`ShadingMaterial`]) and turned into what shading needs at each
-//! hit by one call, [`at_hit`] (the surface front end): shading normal, normal map, colours,
+//! hit by one call, [`at_hit`](fn@at_hit) (the surface front end): shading normal, normal map, colours,
 //! emission, texture-driven factors, layers and the BSDF ([`SurfaceBsdf`]).
 //!
 //! A material's base colour ρ is `base colour × vertex colour (COLOR_0) × base colour

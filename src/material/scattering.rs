@@ -2,7 +2,7 @@
 //! metallic-roughness BRDF ([`MetallicRoughnessBsdf`], with KHR_materials_ior and
 //! KHR_materials_specular), or, for a material with KHR_materials layers (clear coat, sheen,
 //! transmission, volume), the [`LayeredBsdf`] over it. Built only by the surface front end
-//! ([`super::at_hit`]); the same for every integrator.
+//! ([`super::at_hit`](fn@super::at_hit)); the same for every integrator.
 
 use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample, LayeredBsdf, MetallicRoughnessBsdf};
 use crate::material::ShadingMaterial;

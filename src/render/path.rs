@@ -1,10 +1,10 @@
 //! The path tracer: the rendering equation `L_o = L_e + ∫ L_i f |cos θ| dω`, estimated by
 //! unidirectional paths with next-event estimation and multiple importance sampling.
 //!
-//! It runs one tile at a time on the wavefront skeleton ([`super::wavefront`]): for each sample
+//! It runs one tile at a time on the wavefront skeleton (`render::wavefront`): for each sample
 //! index the tile's camera rays are traced as one coherent batch, then every live path is
 //! extended by one vertex per round: its hit goes through the surface front end
-//! ([`crate::material::at_hit`]), its light sample (one per vertex, from the one
+//! ([`crate::material::at_hit`](fn@crate::material::at_hit)), its light sample (one per vertex, from the one
 //! [`LightSampler`](crate::light::LightSampler)) joins one occlusion batch, and its BSDF
 //! sample becomes the next (incoherent) batch of rays.
 //!

@@ -2,7 +2,7 @@
 //! texture coordinates and their derivatives, the texture transform, then a filtered lookup
 //! in the texture's MIP chain; and procedural textures, band-limited as the filter asks.
 //!
-//! The material front end ([`crate::material::at_hit`]) and alpha testing
+//! The material front end ([`crate::material::at_hit`](fn@crate::material::at_hit)) and alpha testing
 //! (`render::visibility`) read every texture through one [`TextureEvaluator`]; nothing else
 //! interpolates texture coordinates.
 
