@@ -314,6 +314,18 @@ impl<'a> LightSampler<'a> {
             None => 0.0,
         }
     }
+
+    /// The sampler's density for an environment direction whose own density under the
+    /// environment's map is `env_pdf` (from [`EnvironmentLight::radiance_and_pdf`]): the
+    /// same as [`environment_pdf`](Self::environment_pdf) without looking the direction up
+    /// again.
+    #[inline]
+    pub fn environment_pdf_of(&self, env_pdf: f32) -> f32 {
+        match self.environment {
+            Some(_) => env_pdf / self.infinite_count() as f32,
+            None => 0.0,
+        }
+    }
 }
 
 /// One of the kinds of light a vertex samples (see [`LightSampler::kinds`]).

@@ -209,11 +209,19 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, primary: bool, su
     // An infinite segment inside an absorbing volume (an open mesh) transmits nothing.
     let beta = path.beta * path.medium.transmittance(f32::INFINITY);
     let dir = ray.dir.normalize_or_zero();
-    let le = env.radiance(dir);
+    // The environment's density only where MIS weighs the escape; one image lookup for both.
+    let weighs = !path.specular
+        && !ctx.transport.direct_only()
+        && ctx.transport.light_strategy == LightStrategy::Mis;
+    let (le, env_pdf) = if weighs {
+        env.radiance_and_pdf(dir)
+    } else {
+        (env.radiance(dir), 0.0)
+    };
     if le == Vec3::ZERO {
         return;
     }
-    let w = bsdf_hit_weight(ctx, path, || ctx.lights.environment_pdf(dir));
+    let w = bsdf_hit_weight(ctx, path, || ctx.lights.environment_pdf_of(env_pdf));
     sums.pending[path.pixel as usize] += beta * le * w;
 }
 
