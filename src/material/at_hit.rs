@@ -42,7 +42,7 @@ pub struct HitQuery<'a> {
     /// The ray's direction (need not be unit).
     pub dir: Vec3,
     /// The ray's differential, for the texture footprint (`None`: finest texture level).
-    pub differential: Option<&'a RayDifferential>,
+    pub differential: Option<RayDifferential>,
     /// Whether the caller will scatter or light the hit (`false`: emission and AOVs only, so
     /// the metallic-roughness and layer textures are not read and no BSDF is built).
     pub scatters: bool,
@@ -82,7 +82,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
     let footprint = q
         .differential
         .filter(|_| material.textured())
-        .and_then(|rd| Footprint::at(mesh, &si, rd));
+        .and_then(|rd| Footprint::at(mesh, &si, &rd));
     // The interpolated normal, before the base's normal map: a clear coat's normal map
     // perturbs this one.
     let vertex_ns = si.ns;

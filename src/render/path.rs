@@ -46,7 +46,8 @@ use super::stats::RayCounts;
 use super::tiles::Tile;
 use super::visibility::RayBatch;
 use super::wavefront::{
-    Pass, ShadowQueue, TileContext, camera_sample, record_first_hit, trace_batch,
+    Pass, ShadowQueue, TileContext, camera_differential, camera_sample, record_first_hit,
+    trace_batch,
 };
 use crate::accel::{Hit, Ray};
 use crate::bsdf::{Bsdf, BsdfFlags, Frame};
@@ -54,7 +55,7 @@ use crate::geometry::{SurfaceInteraction, spawn_ray, spawn_ray_to};
 use crate::light::area::AreaSample;
 use crate::light::{LightSample, NoLightSample, ShadowTarget, Unlit};
 use crate::material::{HitQuery, SurfaceBsdf, at_hit, material_index};
-use crate::texture::{RayDifferential, TexturePoint};
+use crate::texture::TexturePoint;
 use glam::{Vec2, Vec3};
 
 /// Depth (bounces) from which Russian roulette may end a path.
@@ -93,8 +94,9 @@ pub(crate) struct PathScratch {
     next_paths: Vec<PathState>,
     shadows: ShadowQueue,
     weights: Vec<f32>,
-    /// Camera-ray differentials, index-aligned with the first round's `rays`.
-    diffs: Vec<RayDifferential>,
+    /// Film positions of the camera rays, index-aligned with the first round's `rays` (for
+    /// their differentials; only when the render carries them).
+    film: Vec<Vec2>,
 }
 
 /// The power heuristic (β = 2) weight of a sample drawn with density `a` against another
@@ -125,10 +127,13 @@ pub(crate) fn render_tile(
         s.rays.clear();
         s.paths.clear();
         s.weights.clear();
-        s.diffs.clear();
+        s.film.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
-            let (ray, weight) = camera_sample(ctx, x, y, sample, carry.then_some(&mut s.diffs));
+            let (ray, weight, film) = camera_sample(ctx, x, y, sample);
+            if carry {
+                s.film.push(film);
+            }
             s.rays.push(ray);
             s.weights.push(weight);
             s.paths.push(PathState {
@@ -160,8 +165,8 @@ pub(crate) fn render_tile(
                     escaped(ctx, &ray, &path, primary, &mut sums);
                     continue;
                 };
-                let differential = if carry && primary {
-                    s.diffs.get(i)
+                let film = if carry && primary {
+                    s.film.get(i).copied()
                 } else {
                     None
                 };
@@ -170,7 +175,7 @@ pub(crate) fn render_tile(
                     hit: &hit,
                     path,
                     depth,
-                    differential,
+                    film,
                 };
                 shade(
                     ctx,
@@ -258,7 +263,8 @@ struct Vertex<'r> {
     hit: &'r Hit,
     path: PathState,
     depth: u32,
-    differential: Option<&'r RayDifferential>,
+    /// A camera ray's film position (for its differential), when the render carries them.
+    film: Option<Vec2>,
 }
 
 /// Where a vertex puts its light sample and its continuation.
@@ -289,7 +295,12 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         material,
         hit,
         dir: v.ray.dir,
-        differential: v.differential,
+        // Built only for textured materials: most camera rays of a product shot miss the
+        // model or hit untextured parts, and a differential is two more camera rays.
+        differential: v
+            .film
+            .filter(|_| material.textured())
+            .map(|film| camera_differential(ctx, film)),
         scatters: lights_vertex,
     };
     let Some(surface) = at_hit(&ctx.textures(), &query) else {

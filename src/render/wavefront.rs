@@ -21,7 +21,7 @@ use crate::light::environment::EnvironmentLight;
 use crate::material::ShadingMaterial;
 use crate::scene::Scene;
 use crate::texture::{MipMap, RayDifferential, TextureEvaluator, TextureFilter};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::borrow::Cow;
 
 /// Everything a tile render reads; shared by all workers, the same for every pass.
@@ -104,26 +104,28 @@ pub(crate) struct Pass {
     pub spp: u32,
 }
 
-/// The camera ray of sample `sample` of pixel `(x, y)` and its filter weight; pushes the ray's
-/// differential to `diffs` when given. Offsets are from the pixel centre and may leave the
-/// pixel (wide filters).
+/// The camera ray of sample `sample` of pixel `(x, y)`, its filter weight and its position on
+/// the film (for its differential, [`camera_differential`], built only where a textured
+/// material needs it). Offsets are from the pixel centre and may leave the pixel (wide
+/// filters).
 #[inline]
 pub(crate) fn camera_sample(
     ctx: &TileContext<'_>,
     x: u32,
     y: u32,
     sample: u32,
-    diffs: Option<&mut Vec<RayDifferential>>,
-) -> (Ray, f32) {
+) -> (Ray, f32, Vec2) {
     let (offset, weight) = ctx.filter.sample(ctx.sampler.offset(x, y, sample));
-    let (fx, fy) = (x as f32 + 0.5 + offset.x, y as f32 + 0.5 + offset.y);
-    if let Some(diffs) = diffs {
-        diffs.push(
-            ctx.camera
-                .ray_differential(fx, fy, ctx.differential_spacing),
-        );
-    }
-    (ctx.camera.ray(fx, fy), weight)
+    let film = Vec2::new(x as f32 + 0.5 + offset.x, y as f32 + 0.5 + offset.y);
+    (ctx.camera.ray(film.x, film.y), weight, film)
+}
+
+/// The differential of the camera ray through film position `film` (neighbours one sample
+/// spacing away).
+#[inline]
+pub(crate) fn camera_differential(ctx: &TileContext<'_>, film: Vec2) -> RayDifferential {
+    ctx.camera
+        .ray_differential(film.x, film.y, ctx.differential_spacing)
 }
 
 /// Traces one batch of path rays: camera rays (`primary`) coherently, later rays
