@@ -138,7 +138,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
     pub max_spp: u32,
     /// Light transport: path (path tracing with next-event estimation and MIS) or direct
-    /// (direct light and mirror chains only).
+    /// (direct light and specular chains only, same BSDF).
     #[arg(
         long,
         value_parser = super::values::integrator(),

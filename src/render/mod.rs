@@ -107,7 +107,8 @@ pub enum Integrator {
     /// Unidirectional path tracing with next-event estimation and MIS ([`path`]).
     Path,
     /// Direct light only (punctual, area and environment lights by light sampling) plus
-    /// mirror chains: glint's first integrator, exact for delta lights.
+    /// specular chains (delta lobes: smooth metal, glass, coat), with the path tracer's BSDF;
+    /// exact for up to four delta lights.
     #[default]
     Direct,
 }
