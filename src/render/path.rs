@@ -11,8 +11,8 @@
 //! The direct integrator is this kernel with `Integrator::Direct`: the same BSDF, light
 //! sampling at every vertex, but the continuation follows specular (delta) lobes only, and
 //! light found by those continuations counts with weight 1 (no MIS: non-delta lobes are never
-//! BSDF-sampled). So direct light is exact in expectation and specular chains are followed up to
-//! `max_depth` reflections.
+//! BSDF-sampled). So direct light is exact in expectation and specular chains are followed up
+//! to `max_depth` reflections.
 //!
 //! At a vertex with throughput β, outgoing direction ωo and BSDF f:
 //! - **Emission** `β · Le · w`: `w = 1` for camera rays and after a delta lobe, otherwise the
