@@ -7,11 +7,14 @@
 
 pub mod accel;
 pub mod batch;
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod bsdf;
 pub mod cli;
+pub mod color;
 pub mod converge;
 pub mod geometry;
+pub mod job;
 pub mod light;
 pub mod material;
 pub mod output;

@@ -4,6 +4,8 @@
 use glam::Vec3;
 use glint::accel::{BackendKind, BuildOptions};
 use glint::batch::jobs;
+use glint::cli::job_options::RenderOptions;
+use glint::job::LightSource;
 use glint::render::partial::{merge, render_partial};
 use glint::render::{AovSelection, RenderInputs, RenderSettings, render};
 use std::collections::BTreeSet;
@@ -76,7 +78,7 @@ fn statuses(report: &serde_json::Value) -> Vec<(u64, String)> {
 #[test]
 fn shards_together_take_every_job_exactly_once() {
     let dir = tempfile::tempdir().unwrap();
-    let all = jobs::load(&job_file(dir.path())).unwrap();
+    let all = jobs::load(&job_file(dir.path()), &RenderOptions).unwrap();
     assert_eq!(all.len(), 8);
     for count in 1..=9u32 {
         let mut seen = vec![0; all.len()];
@@ -94,7 +96,7 @@ fn shards_together_take_every_job_exactly_once() {
 fn shard_runs_render_every_output_once() {
     let dir = tempfile::tempdir().unwrap();
     let file = job_file(dir.path());
-    let total = jobs::load(&file).unwrap().len();
+    let total = jobs::load(&file, &RenderOptions).unwrap().len();
     let mut rendered = Vec::new();
     for i in 0..3 {
         let name = format!("r{i}.json");
@@ -119,7 +121,7 @@ fn shard_runs_render_every_output_once() {
     }
     rendered.sort();
     assert_eq!(rendered, (0..total as u64).collect::<Vec<_>>());
-    for job in jobs::load(&file).unwrap() {
+    for job in jobs::load(&file, &RenderOptions).unwrap() {
         assert!(job.output().is_file(), "{} missing", job.output().display());
     }
 }
@@ -130,7 +132,7 @@ fn resume_skips_complete_outputs_and_renders_the_rest() {
     let file = job_file(dir.path());
     let first = glint(&["batch", "jobs.toml", "-q"], dir.path());
     assert!(first.status.success(), "{}", stderr(&first));
-    let all = jobs::load(&file).unwrap();
+    let all = jobs::load(&file, &RenderOptions).unwrap();
     let bytes = |p: &Path| std::fs::read(p).unwrap();
     let before: Vec<Vec<u8>> = all.iter().map(|j| bytes(j.output())).collect();
 
@@ -220,7 +222,9 @@ output = "good-2.png"
 /// The error for a job file, which must name the file, the job and the key.
 fn job_file_error(body: &str) -> String {
     let path = Path::new("/somewhere/jobs.toml");
-    jobs::parse(body, path).unwrap_err().to_string()
+    jobs::parse(body, path, &RenderOptions)
+        .unwrap_err()
+        .to_string()
 }
 
 #[test]
@@ -262,6 +266,19 @@ fn bad_job_files_name_the_file_the_job_and_the_key() {
             "[[job]]\nscene = \"a.glb\"\noutput = ",
             ["TOML", "line", ""],
         ),
+        // Values glint render refuses before rendering refuse the file, blamed on the key.
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\nbackground = [1, 2]",
+            ["[[job]] 0", "\"background\"", "R,G,B"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\ntime_budget = 0",
+            ["[[job]] 0", "\"time_budget\"", "positive number of seconds"],
+        ),
+        (
+            "[[job]]\nscene = \"a.glb\"\noutput = \"a.png\"\nintegrator = \"bidirectional\"",
+            ["[[job]] 0", "\"integrator\"", "bidirectional"],
+        ),
     ];
     for (body, needles) in cases {
         let message = job_file_error(body);
@@ -274,13 +291,14 @@ fn bad_job_files_name_the_file_the_job_and_the_key() {
     let ok = jobs::parse(
         "[[job]]\nscene = \"s/a.glb\"\noutput = \"o/a.png\"\nlights = \"l.txt\"",
         Path::new("/somewhere/jobs.toml"),
+        &RenderOptions,
     )
     .unwrap();
     assert_eq!(ok[0].scene(), Path::new("/somewhere/s/a.glb"));
     assert_eq!(ok[0].output(), Path::new("/somewhere/o/a.png"));
     assert_eq!(
-        ok[0].args.lights_file.as_deref(),
-        Some(Path::new("/somewhere/l.txt"))
+        ok[0].render.lights,
+        [LightSource::File("/somewhere/l.txt".into())]
     );
 }
 

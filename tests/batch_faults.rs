@@ -220,7 +220,11 @@ fn a_batch_killed_at_random_moments_resumes_exactly_the_missing_jobs() {
         );
         assert_eq!(r["skipped"].as_u64().unwrap() as usize, present.len());
         let status = statuses(&r);
-        let jobs = glint::batch::jobs::load(&dir.path().join("jobs.toml")).unwrap();
+        let jobs = glint::batch::jobs::load(
+            &dir.path().join("jobs.toml"),
+            &glint::cli::job_options::RenderOptions,
+        )
+        .unwrap();
         for job in &jobs {
             let was_present = present.iter().any(|p| p.ends_with(job.output()));
             let expected = if was_present { "skipped" } else { "rendered" };

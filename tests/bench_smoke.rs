@@ -1,3 +1,4 @@
+#![cfg(feature = "bench")]
 //! `bench rays` in quick mode through the library: the report must be complete (every backend,
 //! build setting, method, workload, query and thread count), every figure finite and positive,
 //! and the answers consistent (occlusion against closest hits, backends against each other,
@@ -197,7 +198,12 @@ fn check_scene(scene: &SceneReport, config: &RaysConfig) {
         .iter()
         .map(|r| r.ratio)
         .chain(scene.packet_gains.iter().map(|g| g.packet8_over_single))
-        .chain(scene.scaling.iter().flat_map(|s| [s.speedup, s.efficiency]))
+        .chain(
+            scene
+                .scaling
+                .iter()
+                .flat_map(|s| [s.scaling.speedup, s.scaling.efficiency]),
+        )
         .chain(
             scene
                 .embree_over_bvh

@@ -154,8 +154,11 @@ fn many_mirror_bounces_and_grazing_floors_stay_finite() {
             };
             let out = render_with(&s, &camera, backend, &settings);
             assert!(all_finite(&out), "{backend} {filter:?}: non-finite pixels");
+            // 628 here: reflections about the fanned normals that would leave below the
+            // geometric surface are dropped (no light through the surface), as the path
+            // tracer does; the direct integrator shares that rule since it shares the BSDF.
             assert!(
-                out.stats.rays.reflection > 1000,
+                out.stats.rays.reflection > 300,
                 "{backend}: the mirrors reflect"
             );
             assert!(

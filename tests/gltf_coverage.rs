@@ -859,13 +859,14 @@ fn batch_jobs_carry_time_and_scene_index() {
         output = "b-{time}.png"
         time = [0.0, 0.5]
     "#;
-    let jobs = glint::batch::jobs::parse(text, std::path::Path::new("/tmp/jobs.toml"))
+    let options = glint::cli::job_options::RenderOptions;
+    let jobs = glint::batch::jobs::parse(text, std::path::Path::new("/tmp/jobs.toml"), &options)
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(jobs.len(), 3);
-    assert_eq!(jobs[0].args.scene_index, Some(1));
-    assert_eq!(jobs[0].args.time, Some(0.25));
-    assert_eq!(jobs[1].args.scene_index, None);
-    let times: Vec<_> = jobs[1..].iter().map(|j| j.args.time).collect();
+    assert_eq!(jobs[0].render.selection.scene, Some(1));
+    assert_eq!(jobs[0].render.selection.time, Some(0.25));
+    assert_eq!(jobs[1].render.selection.scene, None);
+    let times: Vec<_> = jobs[1..].iter().map(|j| j.render.selection.time).collect();
     assert_eq!(times, vec![Some(0.0), Some(0.5)]);
 }
 

@@ -66,39 +66,46 @@ fn hash_file(path: &Path) -> u64 {
 /// differently: `native_kernels_agree_with_the_pinned_ones` bounds that difference. Recorded
 /// with Embree 3.13.5 (Debian 12): another Embree release builds other trees, which may settle
 /// the same ties otherwise.
+///
+/// Issue 21 re-recorded every hash: these renders use the direct integrator, which now shades
+/// the same glTF BSDF as the path tracer (the surface front end, `material::at_hit`) instead of
+/// a Lambert-plus-mirror mapping, so every image changed on purpose. That the two integrators
+/// agree on the BSDF is `tests/direct_bsdf.rs`; the path tracer's own images did not change
+/// where the light sampler draws the same samples (compared byte for byte before and after on
+/// the demo and Suzanne, with and without an environment; see docs/lights.md).
 const EXPECTED: &[(&str, u64)] = &[
-    ("demo/embree/png", 0x26ba4d6d55d257c2), // re-recorded: the new demo scene (issue 14)
-    ("demo/embree/exr", 0xb49f11428e414a8e), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("BoxTextured/embree/png", 0x97d305d2b0f7e264),
-    ("BoxTextured/embree/exr", 0x40d70716d5acd3e7), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("Cameras/embree/png", 0x84f471709c84416f),
-    ("Cameras/embree/exr", 0x2dd2545ab797daac), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("Suzanne/embree/png", 0xd9cddbbadca87261),
-    ("Suzanne/embree/exr", 0xb3a97fbb1ac97423), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("DamagedHelmet/embree/png", 0x56e59acda980aec9), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("DamagedHelmet/embree/exr", 0x060188e3de609b85), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("2CylinderEngine/embree/png", 0x28961e5ea60afdec),
-    ("2CylinderEngine/embree/exr", 0x4021c44f8f538f40), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("demo/embree/partial", 0x2df9c8dff76ef0c9), // re-recorded (issue 26): fingerprint format 2 (external files hashed); pixels unchanged
-    ("demo/embree/progressive", 0x02801e9f46e8b830), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("demo/embree/photometric", 0x006d2b221b0908f8), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("batch/embree", 0xcc1afacaeea17d0d), // re-recorded (issue 20): glint computes Embree hits itself, pinned to sse4.2; equals bvh
-    ("demo/bvh/png", 0x26ba4d6d55d257c2), // re-recorded: the new demo scene (issue 14)
-    ("demo/bvh/exr", 0xb49f11428e414a8e), // re-recorded: the new demo scene (issue 14)
-    ("BoxTextured/bvh/png", 0x97d305d2b0f7e264),
-    ("BoxTextured/bvh/exr", 0x40d70716d5acd3e7),
-    ("Cameras/bvh/png", 0x84f471709c84416f),
-    ("Cameras/bvh/exr", 0x2dd2545ab797daac),
-    ("Suzanne/bvh/png", 0xd9cddbbadca87261),
-    ("Suzanne/bvh/exr", 0xb3a97fbb1ac97423),
-    ("DamagedHelmet/bvh/png", 0x56e59acda980aec9), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("DamagedHelmet/bvh/exr", 0x060188e3de609b85), // re-recorded: direct light from emissive surfaces (issue 12)
-    ("2CylinderEngine/bvh/png", 0x28961e5ea60afdec),
-    ("2CylinderEngine/bvh/exr", 0x4021c44f8f538f40), // re-recorded: as for embree
-    ("demo/bvh/partial", 0x2df9c8dff76ef0c9), // re-recorded (issue 26): fingerprint format 2 (external files hashed); pixels unchanged
-    ("demo/bvh/progressive", 0x02801e9f46e8b830), // re-recorded: the new demo scene (issue 14)
-    ("demo/bvh/photometric", 0x006d2b221b0908f8), // re-recorded: the new demo scene (issue 14)
-    ("batch/bvh", 0xcc1afacaeea17d0d),
+    ("demo/embree/png", 0x7b5cfdab482bd8bf), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/embree/exr", 0x47a842a413931399), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("BoxTextured/embree/png", 0x93e526d98c52d5b2), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("BoxTextured/embree/exr", 0x6a5df7e27f989428), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Cameras/embree/png", 0x603c21f1d10471f4), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Cameras/embree/exr", 0x4a0562ad82aeb56b), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Suzanne/embree/png", 0x94b1e23fccd6accf), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Suzanne/embree/exr", 0x78b5730b7f4252cb), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("DamagedHelmet/embree/png", 0xe8810c0241ee6760), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("DamagedHelmet/embree/exr", 0x51930bb888f63048), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("2CylinderEngine/embree/png", 0xa099a21ff54a56c7), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("2CylinderEngine/embree/exr", 0xc3670545818e4d16), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/embree/partial", 0x097028824f4d77b4), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/embree/progressive", 0x6fd1d0dc0abeb651), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/embree/photometric", 0x9194ddf9eba9930a), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("batch/embree", 0x4be0fa3abe8f70f8), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/bvh/png", 0x7b5cfdab482bd8bf), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/bvh/exr", 0x47a842a413931399), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("BoxTextured/bvh/png", 0x93e526d98c52d5b2), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("BoxTextured/bvh/exr", 0x6a5df7e27f989428), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Cameras/bvh/png", 0x603c21f1d10471f4), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Cameras/bvh/exr", 0x4a0562ad82aeb56b), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Suzanne/bvh/png", 0x94b1e23fccd6accf), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("Suzanne/bvh/exr", 0x78b5730b7f4252cb), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("DamagedHelmet/bvh/png", 0xe8810c0241ee6760), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("DamagedHelmet/bvh/exr", 0x51930bb888f63048), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("2CylinderEngine/bvh/png", 0xa099a21ff54a56c7), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("2CylinderEngine/bvh/exr", 0xc3670545818e4d16), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/bvh/partial", 0x097028824f4d77b4), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/bvh/progressive", 0x6fd1d0dc0abeb651), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("demo/bvh/photometric", 0x9194ddf9eba9930a), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
+    ("batch/bvh", 0x4be0fa3abe8f70f8), // re-recorded (issue 21): the direct integrator shades the glTF BSDF
 ];
 
 /// A partial EXR's hash over its decoded channels (name and f32 bits) and its glint

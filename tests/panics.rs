@@ -69,7 +69,7 @@ fn a_panic_in_a_render_is_one_line_and_exit_status_70() {
         line.starts_with("glint: internal error while rendering ")
             && line.contains("demo.glb")
             && line.contains("GLINT_TEST_PANIC")
-            && line.contains("src/render/job.rs")
+            && line.contains("src/job/run.rs")
             && line.ends_with("(please report this)"),
         "{line}"
     );

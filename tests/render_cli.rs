@@ -83,7 +83,7 @@ fn write_quad_scene(dir: &Path) -> PathBuf {
     std::fs::write(dir.join("quad.bin"), &bin).unwrap();
     let gltf = r#"{
   "asset": {"version": "2.0"},
-  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular"],
   "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 20.0}]}},
   "scene": 0,
   "scenes": [{"nodes": [0, 1, 2]}],
@@ -94,7 +94,7 @@ fn write_quad_scene(dir: &Path) -> PathBuf {
   ],
   "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
-  "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0, "roughnessFactor": 1}}],
+  "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0, "roughnessFactor": 1}, "extensions": {"KHR_materials_specular": {"specularFactor": 0}}}],
   "buffers": [{"uri": "quad.bin", "byteLength": 60}],
   "bufferViews": [
     {"buffer": 0, "byteOffset": 0, "byteLength": 48},
@@ -133,8 +133,8 @@ fn renders_a_gltf_scene_to_exr_with_the_closed_form_at_the_centre() {
                 "--aov",
                 "albedo,normal,depth",
                 "--quiet",
-                // The closed form is the Lambertian one (the direct integrator's mapping; the
-                // path tracer's glTF BRDF adds a Fresnel-weighted specular lobe).
+                // The material has no specular lobe (KHR_materials_specular factor 0), so its
+                // glTF BRDF is Lambertian: the closed form below. Direct light only.
                 "--integrator",
                 "direct",
             ],
@@ -190,7 +190,7 @@ fn renders_png_with_the_camera_aspect_and_reports_on_stderr() {
         "{message}"
     );
     assert!(
-        message.contains("no mirrors: no reflection rays"),
+        message.contains("no emitters: no area-light sampling"),
         "{message}"
     );
     // The path tracer says which light sampling the scene did not need.

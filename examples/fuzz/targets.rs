@@ -9,7 +9,7 @@
 //! | `meshopt` | one EXT_meshopt_compression buffer view made from the input's header and bytes, loaded as a GLB (glint's precondition checks, then meshoptimizer's decoders and filters) |
 //! | `image` | `scene::texture_decode::decode_image` (PNG, JPEG, WebP: the format is sniffed) |
 //! | `env` | `light::environment::read_env_image` (Radiance `.hdr`, OpenEXR `.exr`) on a file in a RAM folder |
-//! | `jobs` | `batch::jobs::parse_file` (job TOML, defaults, sweeps, frames), then `to_job` and `check` of the first jobs |
+//! | `jobs` | `batch::jobs::parse_file` (job TOML, defaults, sweeps, frames) with the command line's option parser, then `check` of the first jobs |
 //! | `lights` | `scene::light_spec::parse_lights_toml`, and `parse_light` on each line |
 //! | `draco` | one KHR_draco_mesh_compression primitive over the input's bytes, loaded as a GLB |
 
@@ -507,7 +507,8 @@ pub fn env(input: &[u8]) -> Outcome {
     })
 }
 
-/// `jobs`: a batch job file, expanded, and its first jobs turned into render jobs and checked.
+/// `jobs`: a batch job file, expanded (each job parsed by the command line's option parser),
+/// and its first jobs checked.
 /// A file whose sweeps give more than [`budgets::JOBS`] jobs is skipped (counted from the
 /// sweeps' plans, as the parser counts them before expanding): each job costs a full
 /// command-line parse, about 0.1 ms, so a legitimate million-job file takes minutes.
@@ -527,26 +528,19 @@ pub fn jobs(input: &[u8]) -> Outcome {
         }
     }
     let path = Path::new("/glint-fuzz/jobs.toml");
-    match glint::batch::jobs::parse_file(&text, path) {
+    let options = glint::cli::job_options::RenderOptions;
+    match glint::batch::jobs::parse_file(&text, path, &options) {
         Err(err) => Outcome::Refused(err.to_string()),
         Ok(file) => {
             let mut summary = format!("{} jobs", file.jobs.len());
             for job in file.jobs.iter().take(8) {
-                match job.to_job() {
-                    Ok(job) => {
-                        if let Err(err) = job.check() {
-                            summary.push('|');
-                            summary.push_str(&err.to_string());
-                        }
+                if let Err(err) = job.render.check() {
+                    let message = err.to_string();
+                    if message.contains('\n') {
+                        return Outcome::Broken(format!("a multi-line job error: {message}"));
                     }
-                    Err(err) => {
-                        let message = err.to_string();
-                        if message.contains('\n') {
-                            return Outcome::Broken(format!("a multi-line job error: {message}"));
-                        }
-                        summary.push('|');
-                        summary.push_str(&message);
-                    }
+                    summary.push('|');
+                    summary.push_str(&message);
                 }
             }
             Outcome::Accepted(summary)

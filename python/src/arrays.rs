@@ -11,7 +11,7 @@
 //! | `coverage` | float32 | H×W×K (fractions of the pixel's samples) |
 
 use glam::Vec3;
-use glint::render::job::JobImages;
+use glint::job::JobImages;
 use glint::render::{Image, ids::COVERAGE_LAYERS};
 use numpy::ndarray::{Array2, Array3};
 use numpy::{Element, IntoPyArray};

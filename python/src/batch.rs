@@ -3,8 +3,7 @@
 
 use crate::scene::{Scene, run_job};
 use crate::{arrays, glint_error, interrupt, options};
-use glint::render::PreparedScene;
-use glint::render::job::Job;
+use glint::job::{Job, PreparedScene};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -69,7 +68,7 @@ pub fn render_batch<'py>(
             };
             (
                 slot,
-                glint::render::job::SceneSource::File(path),
+                glint::scene::SceneSource::File(path),
                 glint::accel::BackendKind::default(),
             )
         };

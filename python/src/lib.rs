@@ -2,7 +2,7 @@
 //!
 //! - [`scene`]: `glint.load` and the `Scene` class: a loaded, prepared scene (ray-query
 //!   structure, MIP chains, area lights built once) that serves any number of renders.
-//! - [`options`]: a render's keyword arguments → a library [`glint::render::Job`].
+//! - [`options`]: a render's keyword arguments → a library [`glint::job::Job`].
 //! - [`arrays`]: a finished render → a dict of numpy arrays.
 //! - [`interrupt`]: runs a render with the GIL released, stopping it on Ctrl-C.
 //! - [`batch`]: `glint.render_batch`, many jobs on one thread pool.

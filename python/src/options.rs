@@ -1,13 +1,14 @@
 //! A render's keyword arguments, as `Scene.render` and the jobs of `glint.render_batch` take
-//! them, turned into a library [`Job`]. Defaults are `glint render`'s, so a render from Python
-//! and the same render from the command line are the same job (and the same pixels).
+//! them, turned into a library [`Job`]. Defaults are [`Job::default`]'s, which are `glint
+//! render`'s, so a render from Python and the same render from the command line are the same
+//! job (and the same pixels); the tests below and `tests/job_defaults.rs` check it.
 
 use glam::Vec3;
-use glint::render::job::{
-    CameraChoice, EnvironmentSource, LightSource, OutputSpec, Samples, SceneSource,
+use glint::job::{
+    CameraChoice, EnvironmentSource, Job, LightSource, OutputSpec, Samples, SceneSource,
 };
 use glint::render::{
-    AovSelection, FilterSpec, Integrator, Job, PixelSampling, RenderSettings, StopRule,
+    AovSelection, FilterSpec, Integrator, PixelSampling, RenderSettings, StopRule,
     progressive::DEFAULT_MAX_SPP,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -98,23 +99,18 @@ pub fn job_from_kwargs(
             }
         }
     }
-    let defaults = RenderSettings::default();
+    let defaults = Job::default();
     let integrator = match get::<String>(kwargs, "integrator")? {
-        Some(name) => parsed("integrator", &name, |s| match s {
-            "path" => Ok(Integrator::Path),
-            "direct" => Ok(Integrator::Direct),
-            _ => Err("use \"path\" or \"direct\""),
-        })?,
-        // As `glint render`.
-        None => Integrator::Path,
+        Some(name) => parsed("integrator", &name, str::parse::<Integrator>)?,
+        None => defaults.settings.integrator,
     };
     let filter = match get::<String>(kwargs, "filter")? {
         Some(text) => parsed("filter", &text, str::parse::<FilterSpec>)?,
-        None => parsed("filter", "box", str::parse::<FilterSpec>)?,
+        None => defaults.settings.filter,
     };
     let sampling = match get::<String>(kwargs, "sampler")? {
         Some(text) => parsed("sampler", &text, str::parse::<PixelSampling>)?,
-        None => PixelSampling::Sobol,
+        None => defaults.settings.sampling,
     };
     let aovs = aov_selection(&get::<Vec<String>>(kwargs, "aovs")?.unwrap_or_default())?;
     let mut lights: Vec<LightSource> = get::<Vec<String>>(kwargs, "lights")?
@@ -158,23 +154,23 @@ pub fn job_from_kwargs(
         width: get(kwargs, "width")?,
         height: get(kwargs, "height")?,
         settings: RenderSettings {
-            spp: get(kwargs, "spp")?.unwrap_or(16),
-            seed: get(kwargs, "seed")?.unwrap_or(0),
-            max_depth: get(kwargs, "max_depth")?.unwrap_or(8),
-            threads: get(kwargs, "threads")?.unwrap_or(0),
+            spp: get(kwargs, "spp")?.unwrap_or(defaults.settings.spp),
+            seed: get(kwargs, "seed")?.unwrap_or(defaults.settings.seed),
+            max_depth: get(kwargs, "max_depth")?.unwrap_or(defaults.settings.max_depth),
+            threads: get(kwargs, "threads")?.unwrap_or(defaults.settings.threads),
             aovs,
             filter,
             sampling,
             integrator,
             environment_visible: !get::<bool>(kwargs, "env_hidden")?.unwrap_or(false),
-            ..defaults
+            ..defaults.settings
         },
         samples,
         output: get::<PathBuf>(kwargs, "output")?.map(|path| OutputSpec {
             path,
             ..OutputSpec::default()
         }),
-        ..Job::default()
+        ..defaults
     })
 }
 
@@ -280,5 +276,19 @@ fn environment(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Option<Environmen
         _ => Err(PyValueError::new_err(
             "env: give a path to an .hdr/.exr image or three non-negative numbers (r, g, b)",
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_keyword_arguments_give_the_default_job() {
+        // Python's defaults are `Job::default()`'s, which tests/job_defaults.rs proves are
+        // `glint render`'s.
+        let job = job_from_kwargs(None, SceneSource::Demo, Default::default(), &[]).unwrap();
+        assert_eq!(job, Job::default());
+        assert_eq!(job.settings.integrator, Integrator::Path);
     }
 }

@@ -2,8 +2,7 @@
 
 use crate::{arrays, glint_error, interrupt, options};
 use glint::accel::BackendKind;
-use glint::render::job::{self, Job, SceneSource};
-use glint::render::{JobError, PreparedScene};
+use glint::job::{self, Job, JobError, PreparedScene, RunOptions, SceneSource};
 use glint::scene::Projection;
 use glint::scene::gltf::{
     DEFAULT_MAX_GEOMETRY_BYTES, DEFAULT_MAX_TEXTURE_PIXELS, LoadOptions, SceneSelection,
@@ -250,19 +249,24 @@ pub(crate) fn run_job(
 ) -> PyResult<job::JobImages> {
     // Notes (a default camera or lights added) are for a person at a terminal; a program
     // calling glint asks for what it gets, so they are not printed.
-    let (_, images) = job::run_images(job, prepared, Some(pool), None, &|_| {}, Some(cancel))
-        .map_err(|e| match e {
-            JobError::InScene { source, .. }
-                if matches!(
-                    *source,
-                    JobError::Render(glint::render::RenderError::Cancelled)
-                ) =>
-            {
-                pyo3::exceptions::PyKeyboardInterrupt::new_err("render cancelled")
-            }
-            e => glint_error(e),
-        })?;
-    images.ok_or_else(|| glint_error("a partial render has no image"))
+    let options = RunOptions {
+        pool: Some(pool),
+        cancel: Some(cancel),
+        ..RunOptions::default()
+    };
+    let done = job::run(job, prepared, options).map_err(|e| match e {
+        JobError::InScene { source, .. }
+            if matches!(
+                *source,
+                JobError::Render(glint::render::RenderError::Cancelled)
+            ) =>
+        {
+            pyo3::exceptions::PyKeyboardInterrupt::new_err("render cancelled")
+        }
+        e => glint_error(e),
+    })?;
+    done.images
+        .ok_or_else(|| glint_error("a partial render has no image"))
 }
 
 impl Scene {

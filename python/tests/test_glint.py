@@ -67,6 +67,24 @@ def test_render_equals_the_cli_exr_bit_for_bit(glint_bin, tmp_path, integrator):
     assert np.array_equal(bits(img["coverage"]), bits(fractions))
 
 
+def test_defaults_are_the_cli_defaults(glint_bin, tmp_path):
+    # Only the size is given: every other option is each side's default (integrator, spp,
+    # seed, depth, sampler, filters), so equal pixels mean equal defaults. The Rust side:
+    # tests/job_defaults.rs (glint render = Job::default()) and the glint-python crate's
+    # no_keyword_arguments_give_the_default_job (Python = Job::default()).
+    exr = tmp_path / "cli.exr"
+    subprocess.run(
+        [str(glint_bin), "render", "-o", str(exr), "--width", "32", "--height", "18",
+         "--quiet"],
+        check=True,
+    )
+    cli = read_exr(exr)
+    img = glint.load().render(width=32, height=18)
+    rgb = np.stack([cli["R"], cli["G"], cli["B"]], axis=-1)
+    assert np.array_equal(bits(img["radiance"]), bits(rgb))
+    assert np.array_equal(bits(img["alpha"]), bits(cli["A"]))
+
+
 def test_output_argument_writes_the_same_file_as_the_cli(glint_bin, quads_path, tmp_path):
     cli, py = tmp_path / "cli.exr", tmp_path / "py.exr"
     subprocess.run([str(glint_bin), "render", str(quads_path), "-o", str(cli), "--width", "7",

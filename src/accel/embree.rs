@@ -573,4 +573,8 @@ impl Accel for EmbreeAccel {
             kernels::describe(self.isa)
         )
     }
+
+    fn as_embree(&self) -> Option<&EmbreeAccel> {
+        Some(self)
+    }
 }

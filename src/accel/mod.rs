@@ -310,6 +310,14 @@ pub trait Accel: Send + Sync {
     fn kernels(&self) -> String {
         self.kind().name().to_string()
     }
+
+    /// The Embree backend itself, for callers that reach its single-ray and 8-wide packet
+    /// entry points, which this trait hides (the benchmarks compare them); `None` for every
+    /// other backend.
+    #[cfg(feature = "embree")]
+    fn as_embree(&self) -> Option<&embree::EmbreeAccel> {
+        None
+    }
 }
 
 /// Every ray-query configuration this build can run on this CPU, with default build settings
@@ -340,13 +348,23 @@ pub fn configuration_label(kind: BackendKind, options: &BuildOptions) -> String 
     }
 }
 
-/// Builds the chosen backend over `meshes`.
+/// Builds the chosen backend over `meshes`, after [`validate`] has checked them.
 pub fn build(
     kind: BackendKind,
     meshes: &[TriangleMesh<'_>],
     options: BuildOptions,
 ) -> Result<Box<dyn Accel>, AccelError> {
     validate(meshes)?;
+    build_validated(kind, meshes, options)
+}
+
+/// [`build`] without its [`validate`] pass, for callers that have validated `meshes` already
+/// (the benchmarks, which time the build alone): the one place that picks a backend's type.
+pub fn build_validated(
+    kind: BackendKind,
+    meshes: &[TriangleMesh<'_>],
+    options: BuildOptions,
+) -> Result<Box<dyn Accel>, AccelError> {
     match kind {
         #[cfg(feature = "embree")]
         BackendKind::Embree => Ok(Box::new(embree::EmbreeAccel::build(meshes, options)?)),
@@ -356,9 +374,11 @@ pub fn build(
     }
 }
 
-/// Largest coordinate magnitude [`build`] accepts (2^40); see
-/// [`crate::scene::gltf::MAX_COORDINATE`].
-pub const MAX_COORDINATE: f32 = crate::scene::gltf::MAX_COORDINATE;
+/// Largest coordinate magnitude [`build`] accepts (and the glTF loader, which refuses scenes
+/// beyond it): 2^40 ≈ 1.1e12. Beyond it an f32 has a spacing of 2^17 or more, so a ray
+/// starting there cannot resolve anything smaller than a 100-km step, and Embree rejects rays
+/// whose origin exceeds ~1.8e18 outright (an assertion that aborts the process).
+pub const MAX_COORDINATE: f32 = (1u64 << 40) as f32;
 
 /// Rejects input that would make either backend misbehave: out-of-range indices, non-finite
 /// positions. Catching it here keeps both backends' behaviour identical and defined. [`build`]

@@ -4,15 +4,17 @@
 //! A job's keys are the long options of `glint render` with `_` for `-` (`max_depth`,
 //! `time_budget`, ...), plus `scene`, `output` and `camera` (an index, or a table
 //! `{ position, look_at, up, yfov }`). Each job is turned into the argument list it stands
-//! for and parsed by the same clap definition as `glint render`, so a job accepts exactly the
-//! options and values `glint render` accepts, and every option added to `glint render` is a
-//! job key at once. Relative paths (`scene`, `output`, `lights`, `asset_root`, `env`, and the
-//! top-level `output_root`) are relative to the job file.
+//! for and handed to an [`OptionParser`]: the command line's, which parses it with the same
+//! clap definition as `glint render`, so a job accepts exactly the options and values `glint
+//! render` accepts, and every option added to `glint render` is a job key at once. (Batch sits
+//! below the command line and knows no clap: the parser is passed in.) Relative paths
+//! (`scene`, `output`, `lights`, `asset_root`, `env`, and the top-level `output_root`) are
+//! relative to the job file.
 
 use super::sweep;
-use crate::render::options::RenderArgs;
-use clap::{CommandFactory, Parser};
+use crate::job::{CameraChoice, EnvironmentSource, LightSource, SceneSource};
 use glam::Vec3;
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};
@@ -24,38 +26,53 @@ pub struct Job {
     pub index: usize,
     /// Where the job comes from, for messages: `[[job]] 2`, `[[sweep]] 0, spp=4`.
     pub origin: String,
-    /// The render options, paths already resolved against the job file's folder.
-    pub args: RenderArgs,
-    /// A camera given by position, replacing the scene's cameras.
-    pub camera: Option<CameraOverride>,
+    /// The render: its options, paths already resolved against the job file's folder, and
+    /// the placed camera if the job has one.
+    pub render: crate::job::Job,
 }
 
 impl Job {
     /// The scene file (always set: a job must name one).
     pub fn scene(&self) -> &Path {
-        self.args.scene.as_deref().unwrap_or(Path::new(""))
+        match &self.render.scene {
+            SceneSource::File(path) => path,
+            SceneSource::Demo => Path::new(""),
+        }
     }
 
     /// The output file (always set: a job must name one).
     pub fn output(&self) -> &Path {
-        self.args.output.as_deref().unwrap_or(Path::new(""))
+        self.render
+            .output
+            .as_ref()
+            .map_or(Path::new(""), |o| o.path.as_path())
     }
+}
 
-    /// The library job this batch job stands for: its options, with the placed camera if it
-    /// has one.
-    pub fn to_job(&self) -> Result<crate::render::Job, crate::render::JobError> {
-        let mut job = self.args.to_job()?;
-        if let Some(placed) = &self.camera {
-            job.camera = crate::render::job::CameraChoice::LookAt {
-                name: format!("{} camera", self.origin),
-                position: placed.position,
-                target: placed.look_at,
-                up: placed.up,
-                yfov: placed.yfov_radians,
-            };
-        }
-        Ok(job)
-    }
+/// What kind of value a render option takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OptionKind {
+    /// A switch: `true` gives it, `false` leaves it out.
+    Flag,
+    /// One value.
+    Value,
+    /// Any number of values: an array is its value, not a sweep over values.
+    List,
+}
+
+/// The render options a job's keys stand for, as the command line defines them: `glint
+/// batch` turns each job table into `glint render`'s long options and asks this to parse them.
+/// The command line implements it with `glint render`'s own clap definition
+/// (`cli::job_options::RenderOptions`), so that batch, a lower layer, needs no clap and the
+/// two spellings cannot drift.
+pub trait OptionParser {
+    /// What option `--name` takes (`name` spelled with `-`); `None` if there is no such option.
+    fn kind(&self, name: &str) -> Option<OptionKind>;
+    /// Every option's name, spelled with `-`, for the message about an unknown key.
+    fn names(&self) -> Vec<String>;
+    /// The render that `scene` and the long options `args` stand for. The error is one line
+    /// naming the option at fault.
+    fn parse(&self, scene: Option<&Path>, args: &[String]) -> Result<crate::job::Job, String>;
 }
 
 /// A perspective camera placed by the job file.
@@ -117,27 +134,36 @@ pub struct JobFile {
     pub output_root: Option<PathBuf>,
 }
 
-/// Reads and expands the job file at `path`.
-pub fn load(path: &Path) -> Result<Vec<Job>, JobFileError> {
-    load_file(path).map(|file| file.jobs)
+/// Reads and expands the job file at `path`, its options parsed by `options`.
+pub fn load(path: &Path, options: &dyn OptionParser) -> Result<Vec<Job>, JobFileError> {
+    load_file(path, options).map(|file| file.jobs)
 }
 
 /// Reads the job file at `path`: its jobs and its batch settings.
-pub fn load_file(path: &Path) -> Result<JobFile, JobFileError> {
+pub fn load_file(path: &Path, options: &dyn OptionParser) -> Result<JobFile, JobFileError> {
     let text = std::fs::read_to_string(path).map_err(|source| JobFileError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    parse_file(&text, path)
+    parse_file(&text, path, options)
 }
 
-/// Expands the job file text `text` (read from `path`, which anchors relative paths).
-pub fn parse(text: &str, path: &Path) -> Result<Vec<Job>, JobFileError> {
-    parse_file(text, path).map(|file| file.jobs)
+/// Expands the job file text `text` (read from `path`, which anchors relative paths), its
+/// options parsed by `options`.
+pub fn parse(
+    text: &str,
+    path: &Path,
+    options: &dyn OptionParser,
+) -> Result<Vec<Job>, JobFileError> {
+    parse_file(text, path, options).map(|file| file.jobs)
 }
 
 /// Like [`parse`], with the batch settings.
-pub fn parse_file(text: &str, path: &Path) -> Result<JobFile, JobFileError> {
+pub fn parse_file(
+    text: &str,
+    path: &Path,
+    options: &dyn OptionParser,
+) -> Result<JobFile, JobFileError> {
     let table: Table = text
         .parse()
         .map_err(|e: toml::de::Error| JobFileError::Syntax {
@@ -198,7 +224,8 @@ pub fn parse_file(text: &str, path: &Path) -> Result<JobFile, JobFileError> {
         path,
         folder,
         defaults: &defaults,
-        checked: Default::default(),
+        options,
+        checked: RefCell::default(),
     };
     let job_tables = tables("job")?;
     let sweeps = tables("sweep")?
@@ -206,7 +233,8 @@ pub fn parse_file(text: &str, path: &Path) -> Result<JobFile, JobFileError> {
         .enumerate()
         .map(|(i, t)| {
             let origin = format!("[[sweep]] {i}");
-            sweep::plan(t, is_list_option).map_err(|message| err(&origin, message))
+            sweep::plan(t, |key| is_list_option(options, key))
+                .map_err(|message| err(&origin, message))
         })
         .collect::<Result<Vec<_>, _>>()?;
     // The whole file is checked before any sweep is expanded: a sweep of a million frames
@@ -342,28 +370,17 @@ fn check_unique_outputs(
 
 /// Whether option `key` takes a list of values (`light`, `aov`), so that an array is its
 /// value rather than a sweep over values.
-fn is_list_option(key: &str) -> bool {
-    let name = key.replace('_', "-");
-    JobCli::command()
-        .get_arguments()
-        .find(|a| a.get_long() == Some(name.as_str()))
-        .is_some_and(|a| matches!(a.get_action(), clap::ArgAction::Append))
-}
-
-/// `glint render`'s options, parsed from a job's argument list.
-#[derive(Parser)]
-#[command(no_binary_name = true, disable_help_flag = true)]
-struct JobCli {
-    #[command(flatten)]
-    args: RenderArgs,
+fn is_list_option(options: &dyn OptionParser, key: &str) -> bool {
+    options.kind(&key.replace('_', "-")) == Some(OptionKind::List)
 }
 
 struct Context<'a> {
     path: &'a Path,
     folder: &'a Path,
     defaults: &'a Table,
+    options: &'a dyn OptionParser,
     /// The arguments of each (key, value text) already checked, for the next job.
-    checked: std::cell::RefCell<HashMap<(String, String), Vec<String>>>,
+    checked: RefCell<HashMap<(String, String), Vec<String>>>,
 }
 
 impl Context<'_> {
@@ -415,16 +432,19 @@ impl Context<'_> {
                 }
                 _ => {
                     // A sweep's jobs share most keys: each (key, value) is turned into
-                    // arguments and checked once (clap builds its whole command per parse).
+                    // arguments and checked once (a parse builds the whole command).
                     let memo_key = (key.clone(), value.to_string());
                     let cached = self.checked.borrow().get(&memo_key).cloned();
                     let single = match cached {
                         Some(single) => single,
                         None => {
-                            let single = option_args(key, value).map_err(|m| key_error(key, m))?;
+                            let single = self
+                                .option_args(key, value)
+                                .map_err(|m| key_error(key, m))?;
                             // Parsed alone first, so that a bad value is blamed on its key.
-                            JobCli::try_parse_from(&single)
-                                .map_err(|e| key_error(key, clap_message(&e)))?;
+                            self.options
+                                .parse(None, &single)
+                                .map_err(|m| key_error(key, m))?;
                             self.checked.borrow_mut().insert(memo_key, single.clone());
                             single
                         }
@@ -445,96 +465,106 @@ impl Context<'_> {
                 "missing: every job needs an output file (.png, or .exr)".into(),
             ));
         }
-        argv.extend(["--".into(), scene]);
-        let mut args = JobCli::try_parse_from(&argv)
-            .map_err(|e| JobFileError::Job {
+        let mut render = self
+            .options
+            .parse(Some(&self.folder.join(scene)), &argv)
+            .map_err(|message| JobFileError::Job {
                 path: self.path.to_path_buf(),
                 origin: origin.to_string(),
-                message: clap_message(&e),
-            })?
-            .args;
-        let resolve = |p: &mut Option<PathBuf>| {
-            if let Some(p) = p
-                && p.is_relative()
-            {
-                *p = self.folder.join(&*p);
-            }
-        };
-        resolve(&mut args.scene);
-        resolve(&mut args.output);
-        resolve(&mut args.lights_file);
-        resolve(&mut args.asset_root);
-        resolve(&mut args.env);
-        args.quiet = true;
+                message,
+            })?;
+        self.resolve_paths(&mut render);
+        if let Some(placed) = camera {
+            render.camera = CameraChoice::LookAt {
+                name: format!("{origin} camera"),
+                position: placed.position,
+                target: placed.look_at,
+                up: placed.up,
+                yfov: placed.yfov_radians,
+            };
+        }
         Ok(Job {
             index,
             origin: origin.to_string(),
-            args,
-            camera,
+            render,
         })
     }
-}
 
-/// The command-line arguments that `key = value` stands for.
-fn option_args(key: &str, value: &Value) -> Result<Vec<String>, String> {
-    // `scene` is the job's file; the scene index (`--scene N`) is the key `scene_index`.
-    let name = match key {
-        "scene_index" => "scene".to_string(),
-        k => k.replace('_', "-"),
-    };
-    let command = JobCli::command();
-    let Some(arg) = command
-        .get_arguments()
-        .find(|a| a.get_long() == Some(name.as_str()))
-    else {
-        let mut known: Vec<String> = command
-            .get_arguments()
-            .filter_map(|a| a.get_long())
-            .map(|l| match l {
-                "scene" => "scene_index".to_string(),
-                l => l.replace('-', "_"),
-            })
-            .filter(|l| !BATCH_ONLY.contains(&l.as_str()))
-            .collect();
-        known.extend(["scene".into(), "camera".into()]);
-        known.sort();
-        return Err(format!(
-            "unknown key; the job keys are {}",
-            known.join(", ")
-        ));
-    };
-    let flag = format!("--{name}");
-    if !arg.get_action().takes_values() {
-        return match value {
-            Value::Boolean(true) => Ok(vec![flag]),
-            Value::Boolean(false) => Ok(Vec::new()),
-            other => Err(format!("must be true or false, not {}", other.type_str())),
-        };
-    }
-    let scalar = |v: &Value| match v {
-        Value::String(s) => Ok(s.clone()),
-        Value::Integer(i) => Ok(i.to_string()),
-        Value::Float(f) => Ok(f.to_string()),
-        Value::Boolean(b) => Ok(b.to_string()),
-        other => Err(format!("must be a value, not {}", other.type_str())),
-    };
-    match value {
-        Value::Array(items) => {
-            let mut out = Vec::new();
-            for item in items {
-                out.extend([flag.clone(), scalar(item)?]);
+    /// Makes the render's relative paths (output, lights file, asset root, environment map)
+    /// relative to the job file's folder; the scene is joined to it before parsing.
+    fn resolve_paths(&self, render: &mut crate::job::Job) {
+        let resolve = |p: &mut PathBuf| {
+            if p.is_relative() {
+                *p = self.folder.join(&*p);
             }
-            Ok(out)
+        };
+        if let Some(output) = &mut render.output {
+            resolve(&mut output.path);
         }
-        v => Ok(vec![flag, scalar(v)?]),
+        for light in &mut render.lights {
+            if let LightSource::File(path) = light {
+                resolve(path);
+            }
+        }
+        if let Some(root) = &mut render.load_options.asset_root {
+            resolve(root);
+        }
+        if let Some(EnvironmentSource::File { path, .. }) = &mut render.environment {
+            resolve(path);
+        }
     }
-}
 
-/// The first line of a clap error, without its `error: ` prefix.
-fn clap_message(e: &clap::Error) -> String {
-    let text = e.to_string();
-    let line = text.lines().next().unwrap_or_default();
-    line.strip_prefix("error: ").unwrap_or(line).to_string()
+    /// The command-line arguments that `key = value` stands for.
+    fn option_args(&self, key: &str, value: &Value) -> Result<Vec<String>, String> {
+        // `scene` is the job's file; the scene index (`--scene N`) is the key `scene_index`.
+        let name = match key {
+            "scene_index" => "scene".to_string(),
+            k => k.replace('_', "-"),
+        };
+        let Some(kind) = self.options.kind(&name) else {
+            let mut known: Vec<String> = self
+                .options
+                .names()
+                .into_iter()
+                .map(|l| match l.as_str() {
+                    "scene" => "scene_index".to_string(),
+                    l => l.replace('-', "_"),
+                })
+                .filter(|l| !BATCH_ONLY.contains(&l.as_str()))
+                .collect();
+            known.extend(["scene".into(), "camera".into()]);
+            known.sort();
+            return Err(format!(
+                "unknown key; the job keys are {}",
+                known.join(", ")
+            ));
+        };
+        let flag = format!("--{name}");
+        if kind == OptionKind::Flag {
+            return match value {
+                Value::Boolean(true) => Ok(vec![flag]),
+                Value::Boolean(false) => Ok(Vec::new()),
+                other => Err(format!("must be true or false, not {}", other.type_str())),
+            };
+        }
+        let scalar = |v: &Value| match v {
+            Value::String(s) => Ok(s.clone()),
+            Value::Integer(i) => Ok(i.to_string()),
+            Value::Float(f) => Ok(f.to_string()),
+            Value::Boolean(b) => Ok(b.to_string()),
+            other => Err(format!("must be a value, not {}", other.type_str())),
+        };
+        match value {
+            Value::Array(items) => {
+                let mut out = Vec::new();
+                for item in items {
+                    out.extend([flag.clone(), scalar(item)?]);
+                }
+                Ok(out)
+            }
+            v => Ok(vec![flag, scalar(v)?]),
+        }
+    }
 }
 
 /// Reads `{ position, look_at, up, yfov }`.

@@ -35,9 +35,9 @@ use super::paths;
 use super::report::{BatchReport, JobReport, JobStatus};
 use super::shard::Shard;
 use crate::accel::BackendKind;
+use crate::job::{DEFAULT_ASPECT, DEFAULT_WIDTH, PreparedScene, RunOptions};
 use crate::panics;
-use crate::render::job::{DEFAULT_ASPECT, DEFAULT_WIDTH, SceneSource};
-use crate::render::{self, PreparedScene, RenderError};
+use crate::render::{self, RenderError};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -79,14 +79,12 @@ pub fn run(
 /// The scene loader of [`run`]: the job's file, selection and load options, prepared for
 /// its backend.
 pub fn load_scene(job: &Job) -> Result<PreparedScene, String> {
+    let render = &job.render;
     PreparedScene::load(
-        &SceneSource::File(job.scene().to_path_buf()),
-        &crate::scene::gltf::SceneSelection {
-            scene: job.args.scene_index,
-            time: job.args.time,
-        },
-        &job.args.load_options(),
-        job.args.backend,
+        &render.scene,
+        &render.selection,
+        &render.load_options,
+        render.backend,
     )
     .map_err(|e| e.to_string())
 }
@@ -146,7 +144,7 @@ pub fn run_with_loader(
             todo.push(job);
         }
     }
-    let any_embree = todo.iter().any(|j| j.args.backend == BackendKind::Embree);
+    let any_embree = todo.iter().any(|j| j.render.backend == BackendKind::Embree);
     let pool = render::thread_pool(
         options.threads,
         if any_embree {
@@ -337,12 +335,12 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
         let path = std::fs::canonicalize(job.scene()).unwrap_or_else(|_| job.scene().into());
         let key = (
             path,
-            job.args.backend,
-            job.args.scene_index,
-            job.args.time.map(f32::to_bits),
-            job.args.asset_root.clone(),
-            job.args.max_texture_pixels,
-            job.args.max_geometry_bytes,
+            job.render.backend,
+            job.render.selection.scene,
+            job.render.selection.time.map(f32::to_bits),
+            job.render.load_options.asset_root.clone(),
+            job.render.load_options.max_texture_pixels,
+            job.render.load_options.max_geometry_bytes,
         );
         match keys.iter().position(|k| *k == key) {
             Some(i) => groups[i].push(job),
@@ -363,13 +361,14 @@ fn render_job(
     pool: &rayon::ThreadPool,
     tick: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<render::RenderStats, String> {
-    // The output folder exists: the write probe created it.
-    let quiet = |_: String| {};
-    let in_scene = |e: render::JobError| format!("{}: {e}", job.scene().display());
-    let render_job = job.to_job().map_err(in_scene)?;
-    // `run` names the scene in its errors already.
-    let done = render::job::run(&render_job, prepared, Some(pool), Some(tick), &quiet)
-        .map_err(|e| e.to_string())?;
+    // The output folder exists: the write probe created it. Notes are dropped (a batch
+    // reports per job), and `run` names the scene in its errors already.
+    let options = RunOptions {
+        pool: Some(pool),
+        progress: Some(tick),
+        ..RunOptions::default()
+    };
+    let done = crate::job::run(&job.render, prepared, options).map_err(|e| e.to_string())?;
     Ok(done.stats)
 }
 
@@ -399,7 +398,8 @@ pub fn output_is_complete(job: &Job) -> bool {
     let Some((width, height)) = size else {
         return false;
     };
-    job.args.width.is_none_or(|w| w == width) && job.args.height.is_none_or(|h| h == height)
+    let render = &job.render;
+    render.width.is_none_or(|w| w == width) && render.height.is_none_or(|h| h == height)
 }
 
 fn report(
@@ -445,13 +445,13 @@ impl Progress {
         let estimates: Vec<u64> = jobs
             .iter()
             .map(|j| {
-                let width = j.args.width.unwrap_or(DEFAULT_WIDTH) as u64;
+                let width = j.render.width.unwrap_or(DEFAULT_WIDTH) as u64;
                 let height = j
-                    .args
+                    .render
                     .height
                     .unwrap_or((width as f32 / DEFAULT_ASPECT).round() as u32)
                     as u64;
-                (width * height * j.args.spp as u64).max(1)
+                (width * height * j.render.settings.spp as u64).max(1)
             })
             .collect();
         let bar = if quiet {
@@ -559,15 +559,32 @@ mod tests {
     fn a_panic_while_loading_one_scene_fails_its_jobs_only() {
         let dir = tempfile::tempdir().unwrap();
         let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb");
-        let text = format!(
-            "[defaults]\nwidth = 8\nheight = 6\nspp = 1\nbackend = \"bvh\"\n\
-             [[job]]\nscene = \"boom.glb\"\noutput = \"a.png\"\n\
-             [[job]]\nscene = \"{demo}\"\noutput = \"b.png\"\n\
-             [[job]]\nscene = \"boom.glb\"\noutput = \"c.png\"\n",
-            demo = demo.display()
-        );
         let file = dir.path().join("jobs.toml");
-        let jobs = super::super::jobs::parse(&text, &file).unwrap();
+        let job = |index: usize, scene: &Path, output: &str| Job {
+            index,
+            origin: format!("[[job]] {index}"),
+            render: crate::job::Job {
+                scene: crate::scene::SceneSource::File(scene.to_path_buf()),
+                backend: BackendKind::Bvh,
+                width: Some(8),
+                height: Some(6),
+                settings: crate::render::RenderSettings {
+                    spp: 1,
+                    ..crate::job::Job::default().settings
+                },
+                output: Some(crate::job::OutputSpec {
+                    path: dir.path().join(output),
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+        };
+        let boom = dir.path().join("boom.glb");
+        let jobs = [
+            job(0, &boom, "a.png"),
+            job(1, &demo, "b.png"),
+            job(2, &boom, "c.png"),
+        ];
         let loader = |job: &Job| {
             if job.scene().ends_with("boom.glb") {
                 panic!("injected load panic");

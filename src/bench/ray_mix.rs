@@ -254,16 +254,12 @@ pub fn path_mix_bench(
     let (mut renders, mut raws) = (Vec::new(), Vec::new());
     for _ in 0..runs.max(1) {
         let (_, stats) = crate::render::render_film(&own_pool, settings, 0..settings.spp, None)?;
-        renders.push(stats.elapsed.as_secs_f64());
-        raws.push(replay(inputs.accel, &batches, &pool).as_secs_f64());
+        renders.push(stats.elapsed);
+        raws.push(replay(inputs.accel, &batches, &pool));
     }
-    let median = |v: &[f64]| {
-        super::timing::Timing::from_samples(v)
-            .map_or(Duration::ZERO, |t| Duration::from_secs_f64(t.median_s))
-    };
     Ok(PathMixReport {
-        render: median(&renders),
-        raw: median(&raws),
+        render: super::timing::median_duration(&renders),
+        raw: super::timing::median_duration(&raws),
         rays: MixCounts::of(&batches),
         runs: runs.max(1),
     })

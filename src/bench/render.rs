@@ -10,6 +10,7 @@
 //! `glint bench render` drives them for a glTF scene ([`scene_to_bench`]) or, without one, a
 //! procedural scene ([`procedural_scene`]), so it needs no files.
 
+use super::timing::{Scaling, median_duration};
 use crate::accel::{Accel, Coherence, Hit, Ray};
 use crate::geometry::{spawn_ray, spawn_ray_to, triangle_point};
 use crate::procedural::Builtin;
@@ -101,7 +102,7 @@ pub fn kernel_bench(
             }
         }
     }
-    let [specialised, general] = times.map(median);
+    let [specialised, general] = times.map(|t| median_duration(&t));
     Ok(KernelBenchReport {
         specialised,
         general,
@@ -115,35 +116,15 @@ pub fn kernel_bench(
     })
 }
 
-/// The median of `v` ([`super::timing::Timing`]'s median: the mean of the middle two for an
-/// even count); zero for no runs.
-fn median(v: Vec<Duration>) -> Duration {
-    let seconds: Vec<f64> = v.iter().map(Duration::as_secs_f64).collect();
-    super::timing::Timing::from_samples(&seconds)
-        .map_or(Duration::ZERO, |t| Duration::from_secs_f64(t.median_s))
-}
-
-/// Result of [`thread_scaling`].
+/// Result of [`thread_scaling`]: the median render times and the scaling they give.
 #[derive(Clone, Copy, Debug)]
-pub struct Scaling {
-    /// Threads of the parallel run.
-    pub threads: usize,
+pub struct ThreadScaling {
     /// Median render time on one thread.
     pub one: Duration,
-    /// Median render time on `threads` threads.
+    /// Median render time on `scaling.threads` threads.
     pub all: Duration,
-}
-
-impl Scaling {
-    /// Speed-up over one thread.
-    pub fn speedup(&self) -> f64 {
-        self.one.as_secs_f64() / self.all.as_secs_f64().max(1e-12)
-    }
-
-    /// Parallel efficiency: speed-up / threads (1 is perfect scaling).
-    pub fn efficiency(&self) -> f64 {
-        self.speedup() / self.threads.max(1) as f64
-    }
+    /// Speed-up and parallel efficiency from one thread to all.
+    pub scaling: Scaling,
 }
 
 /// Renders with 1 thread and with `threads` threads (alternating, `runs` times each) and
@@ -155,7 +136,7 @@ pub fn thread_scaling(
     settings: &RenderSettings,
     threads: usize,
     runs: usize,
-) -> Result<Scaling, RenderError> {
+) -> Result<ThreadScaling, RenderError> {
     let mut times = [Vec::new(), Vec::new()];
     for _ in 0..runs.max(1) {
         for (slot, n) in [1, threads].into_iter().enumerate() {
@@ -170,8 +151,12 @@ pub fn thread_scaling(
             );
         }
     }
-    let [one, all] = times.map(median);
-    Ok(Scaling { threads, one, all })
+    let [one, all] = times.map(|t| median_duration(&t));
+    Ok(ThreadScaling {
+        one,
+        all,
+        scaling: Scaling::of_times(threads, one, all),
+    })
 }
 
 /// Per-worker buffers of [`raw_trace`]: camera rays, hits, shadow rays, occlusion.

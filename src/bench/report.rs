@@ -3,7 +3,7 @@
 //! plain-text table for people.
 
 use super::structure::Method;
-use super::timing::{Rate, Runs, Timing};
+use super::timing::{Rate, Runs, Scaling, Timing};
 use crate::accel::BackendKind;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -205,13 +205,9 @@ pub struct ScalingReport {
     pub workload: Workload,
     /// Closest hit or occlusion.
     pub query: Query,
-    /// The larger thread count.
-    pub threads: usize,
-    /// Median Mrays/s with `threads` over median Mrays/s with one (wall clock: capped by the
-    /// processors the machine's load leaves free).
-    pub speedup: f64,
-    /// `speedup / threads`: 1 is perfect scaling.
-    pub efficiency: f64,
+    /// The thread count, and the median Mrays/s with it over the median Mrays/s with one.
+    #[serde(flatten)]
+    pub scaling: Scaling,
     /// Mrays per CPU-second with `threads` over that with one: 1 when more threads cost no
     /// extra work (no contention, no idle spinning), whatever the machine's load.
     pub cpu_efficiency: Option<f64>,
@@ -342,15 +338,16 @@ pub fn scaling(queries: &[QueryReport]) -> Vec<ScalingReport> {
                     && q.workload == many.workload
                     && q.query == many.query
             })?;
-            let speedup = many.mrays_per_s.median / one.mrays_per_s.median;
             Some(ScalingReport {
                 backend: many.backend,
                 method: many.method,
                 workload: many.workload,
                 query: many.query,
-                threads: many.threads,
-                speedup,
-                efficiency: speedup / many.threads as f64,
+                scaling: Scaling::of_speeds(
+                    many.threads,
+                    one.mrays_per_s.median,
+                    many.mrays_per_s.median,
+                ),
                 cpu_efficiency: cpu_ratio(many, one),
             })
         })
@@ -561,7 +558,7 @@ impl SceneReport {
                     && s.method == q.method
                     && s.workload == q.workload
                     && s.query == q.query
-                    && s.threads == q.threads
+                    && s.scaling.threads == q.threads
             });
             let _ = writeln!(
                 out,
@@ -574,7 +571,7 @@ impl SceneReport {
                 fmt_rate(&q.mrays_per_s),
                 or_dash(q.mrays_per_cpu_s.map(|r| sig3(r.median))),
                 or_dash(q.cpu_share.map(|s| format!("{:.0}%", 100.0 * s))),
-                or_dash(scaling.map(|s| format!("{:.2}×", s.speedup))),
+                or_dash(scaling.map(|s| format!("{:.2}×", s.scaling.speedup))),
                 or_dash(
                     scaling
                         .and_then(|s| s.cpu_efficiency)
@@ -733,11 +730,11 @@ mod tests {
             (embree_single.backend, embree_single.method),
             (BackendKind::Embree, Method::Single)
         );
-        assert!((embree_single.speedup - 1.6).abs() < 1e-9);
-        assert!((embree_single.efficiency - 0.8).abs() < 1e-9);
+        assert!((embree_single.scaling.speedup - 1.6).abs() < 1e-9);
+        assert!((embree_single.scaling.efficiency - 0.8).abs() < 1e-9);
         // Per CPU-second: 16 / (2 · 0.5) over 10 / (1 · 0.5) Mrays per CPU-second.
         assert!((embree_single.cpu_efficiency.unwrap() - 0.8).abs() < 1e-9);
-        assert!((scaling[2].efficiency - 1.0).abs() < 1e-9);
+        assert!((scaling[2].scaling.efficiency - 1.0).abs() < 1e-9);
     }
 
     #[test]

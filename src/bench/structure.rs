@@ -4,7 +4,8 @@
 #[cfg(feature = "embree")]
 use crate::accel::embree::EmbreeAccel;
 use crate::accel::{
-    Accel, AccelError, BackendKind, BuildOptions, Coherence, Hit, Ray, TriangleMesh, bvh::BvhAccel,
+    Accel, AccelError, BackendKind, BuildOptions, Coherence, Hit, Ray, TriangleMesh,
+    build_validated,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -33,57 +34,52 @@ impl Method {
     }
 }
 
-/// A built structure of one backend.
-pub enum Structure {
-    /// Embree, kept concrete to reach its single-ray and packet entry points.
-    #[cfg(feature = "embree")]
-    Embree(EmbreeAccel),
-    /// The obvhs BVH.
-    Bvh(Box<BvhAccel>),
+/// A built structure of one backend ([`crate::accel::build_validated`]), with the Embree
+/// backend's own entry points reachable ([`Accel::as_embree`]).
+pub struct Structure {
+    accel: Box<dyn Accel>,
 }
 
 impl Structure {
     /// Builds `kind` over `meshes`, which the caller has checked with
-    /// [`crate::accel::validate`].
+    /// [`crate::accel::validate`] (so that the build alone is timed).
     pub fn build(
         kind: BackendKind,
         meshes: &[TriangleMesh<'_>],
         options: BuildOptions,
     ) -> Result<Self, AccelError> {
-        match kind {
-            #[cfg(feature = "embree")]
-            BackendKind::Embree => Ok(Structure::Embree(EmbreeAccel::build(meshes, options)?)),
-            #[cfg(not(feature = "embree"))]
-            BackendKind::Embree => Err(AccelError::Unavailable(BackendKind::Embree)),
-            BackendKind::Bvh => Ok(Structure::Bvh(Box::new(BvhAccel::build(meshes, options)))),
-        }
+        Ok(Self {
+            accel: build_validated(kind, meshes, options)?,
+        })
     }
 
     /// The structure behind the common trait.
     pub fn accel(&self) -> &dyn Accel {
-        match self {
-            #[cfg(feature = "embree")]
-            Structure::Embree(accel) => accel,
-            Structure::Bvh(accel) => accel.as_ref(),
-        }
+        self.accel.as_ref()
+    }
+
+    /// Embree, kept concrete to reach its single-ray and packet entry points.
+    #[cfg(feature = "embree")]
+    fn embree(&self) -> Option<&EmbreeAccel> {
+        self.accel.as_embree()
     }
 
     /// The ways this backend can take a batch of rays.
     pub fn methods(&self) -> &'static [Method] {
-        match self {
-            #[cfg(feature = "embree")]
-            Structure::Embree(_) => &[Method::Single, Method::Packet8],
-            Structure::Bvh(_) => &[Method::Single],
+        #[cfg(feature = "embree")]
+        if self.embree().is_some() {
+            return &[Method::Single, Method::Packet8];
         }
+        &[Method::Single]
     }
 
     /// The method [`Accel::intersect_many`] and [`Accel::occluded_many`] use.
     pub fn default_method(&self) -> Method {
-        match self {
-            #[cfg(feature = "embree")]
-            Structure::Embree(_) => Method::Packet8,
-            Structure::Bvh(_) => Method::Single,
+        #[cfg(feature = "embree")]
+        if self.embree().is_some() {
+            return Method::Packet8;
         }
+        Method::Single
     }
 
     /// Closest hits of `rays` into `hits` on the current rayon pool, [`TASK_RAYS`] per task.
@@ -97,16 +93,15 @@ impl Structure {
     ) {
         rays.par_chunks(TASK_RAYS)
             .zip(hits.par_chunks_mut(TASK_RAYS))
-            .for_each(|(rays, hits)| match (self, method) {
+            .for_each(|(rays, hits)| {
                 #[cfg(feature = "embree")]
-                (Structure::Embree(accel), Method::Single) => {
-                    accel.intersect_single(rays, hits, coherence)
+                if let Some(embree) = self.embree() {
+                    return match method {
+                        Method::Single => embree.intersect_single(rays, hits, coherence),
+                        Method::Packet8 => embree.intersect_packets(rays, hits, coherence),
+                    };
                 }
-                #[cfg(feature = "embree")]
-                (Structure::Embree(accel), Method::Packet8) => {
-                    accel.intersect_packets(rays, hits, coherence)
-                }
-                _ => self.accel().intersect_many(rays, hits, coherence),
+                self.accel.intersect_many(rays, hits, coherence)
             });
     }
 
@@ -120,16 +115,15 @@ impl Structure {
     ) {
         rays.par_chunks(TASK_RAYS)
             .zip(occluded.par_chunks_mut(TASK_RAYS))
-            .for_each(|(rays, out)| match (self, method) {
+            .for_each(|(rays, out)| {
                 #[cfg(feature = "embree")]
-                (Structure::Embree(accel), Method::Single) => {
-                    accel.occluded_single(rays, out, coherence)
+                if let Some(embree) = self.embree() {
+                    return match method {
+                        Method::Single => embree.occluded_single(rays, out, coherence),
+                        Method::Packet8 => embree.occluded_packets(rays, out, coherence),
+                    };
                 }
-                #[cfg(feature = "embree")]
-                (Structure::Embree(accel), Method::Packet8) => {
-                    accel.occluded_packets(rays, out, coherence)
-                }
-                _ => self.accel().occluded_many(rays, out, coherence),
+                self.accel.occluded_many(rays, out, coherence)
             });
     }
 }

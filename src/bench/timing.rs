@@ -6,7 +6,7 @@
 
 use super::cpu::process_cpu_s;
 use serde::Serialize;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// How many times to run a measured piece of work.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -97,6 +97,45 @@ impl Rate {
             min: self.min * 1e-6,
             max: self.max * 1e-6,
         }
+    }
+}
+
+/// The median of `times` ([`Timing`]'s median: the mean of the two middle runs for an even
+/// count); zero for no runs. The one median of every benchmark.
+pub fn median_duration(times: &[Duration]) -> Duration {
+    let seconds: Vec<f64> = times.iter().map(Duration::as_secs_f64).collect();
+    Timing::from_samples(&seconds).map_or(Duration::ZERO, |t| Duration::from_secs_f64(t.median_s))
+}
+
+/// How a speed grows from one thread to `threads`: what `bench rays` reports per query
+/// ([`super::report::ScalingReport`]) and `bench render` for the renderer
+/// ([`super::render::thread_scaling`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Scaling {
+    /// The larger thread count.
+    pub threads: usize,
+    /// Speed with `threads` over speed with one (wall clock: capped by the processors the
+    /// machine's load leaves free).
+    pub speedup: f64,
+    /// `speedup / threads`: 1 is perfect scaling.
+    pub efficiency: f64,
+}
+
+impl Scaling {
+    /// From the speeds (larger is faster, in any one unit) with one thread and with `threads`.
+    pub fn of_speeds(threads: usize, one: f64, many: f64) -> Self {
+        let speedup = many / one;
+        Self {
+            threads,
+            speedup,
+            efficiency: speedup / threads.max(1) as f64,
+        }
+    }
+
+    /// From the times the same work takes with one thread and with `threads`.
+    pub fn of_times(threads: usize, one: Duration, many: Duration) -> Self {
+        let speed = |t: Duration| 1.0 / t.as_secs_f64().max(1e-12);
+        Self::of_speeds(threads, speed(one), speed(many))
     }
 }
 

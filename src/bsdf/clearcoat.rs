@@ -25,7 +25,7 @@
 //! [`SMOOTH_ALPHA`](super::microfacet::SMOOTH_ALPHA) a delta mirror of reflectance `c Fc(wo)`.
 
 use super::microfacet::{TrowbridgeReitz, reflect};
-use super::{Bsdf, BsdfSample, Frame};
+use super::{Bsdf, BsdfFlags, BsdfSample, Frame};
 use glam::{Vec2, Vec3};
 
 /// The clear-coat lobe alone, `c · Fc(wo) · D · V` (see the module documentation).
@@ -127,8 +127,8 @@ impl Bsdf for ClearcoatBsdf {
         Some(s)
     }
 
-    fn is_delta(&self) -> bool {
-        self.distribution.is_smooth()
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::REFLECTION | BsdfFlags::microfacet(self.distribution.is_smooth())
     }
 }
 

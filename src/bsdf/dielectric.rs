@@ -36,7 +36,7 @@
 //! recomputes `m` from `(wo, wi)` and gives the same value, so MIS sees one density.
 
 use super::microfacet::{TrowbridgeReitz, reflect};
-use super::{Bsdf, BsdfSample};
+use super::{Bsdf, BsdfFlags, BsdfSample};
 use glam::{Vec2, Vec3};
 
 /// The dielectric interface (see the module documentation).
@@ -291,8 +291,10 @@ impl Bsdf for DielectricBsdf {
         })
     }
 
-    fn is_delta(&self) -> bool {
-        self.distribution.is_smooth()
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::REFLECTION
+            | BsdfFlags::TRANSMISSION
+            | BsdfFlags::microfacet(self.distribution.is_smooth())
     }
 }
 

@@ -4,7 +4,7 @@
 //! sampled by the cosine-weighted hemisphere, `pdf = cos θi / π`, so the sample weight is ρ.
 //! Its directional-hemispherical reflectance is ρ at every angle.
 
-use super::{Bsdf, BsdfSample, same_hemisphere};
+use super::{Bsdf, BsdfFlags, BsdfSample, same_hemisphere};
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -17,6 +17,10 @@ pub struct LambertBsdf {
 }
 
 impl Bsdf for LambertBsdf {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::REFLECTION | BsdfFlags::DIFFUSE
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z > 0.0 && same_hemisphere(wo, wi) {

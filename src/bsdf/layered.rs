@@ -30,7 +30,9 @@
 //! `wo` must be above the surface (the integrators orient the shading frame toward `wo`);
 //! `wi` may be below it (transmission).
 
-use super::{Bsdf, BsdfSample, ClearcoatBsdf, DielectricBsdf, MetallicRoughnessBsdf, SheenBsdf};
+use super::{
+    Bsdf, BsdfFlags, BsdfSample, ClearcoatBsdf, DielectricBsdf, MetallicRoughnessBsdf, SheenBsdf,
+};
 use glam::{Vec2, Vec3};
 
 /// The layered glTF BSDF (see the module documentation).
@@ -234,10 +236,20 @@ impl Bsdf for LayeredBsdf {
         })
     }
 
-    fn is_delta(&self) -> bool {
-        self.sheen.is_none()
-            && self.clearcoat.is_none_or(|c| c.is_delta())
-            && (self.base_weight() <= 0.0 || self.base.is_delta())
-            && self.transmission.is_none_or(|(_, d)| d.is_delta())
+    fn flags(&self) -> BsdfFlags {
+        let mut flags = BsdfFlags::empty();
+        if self.base_weight() > 0.0 {
+            flags |= self.base.flags();
+        }
+        if let Some((_, d)) = self.transmission {
+            flags |= d.flags();
+        }
+        if let Some(s) = self.sheen {
+            flags |= s.flags();
+        }
+        if let Some(c) = self.clearcoat {
+            flags |= c.flags();
+        }
+        flags
     }
 }

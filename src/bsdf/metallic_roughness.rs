@@ -42,7 +42,7 @@
 //! the shading frame toward `wo` for two-sided surfaces.
 
 use super::microfacet::{TrowbridgeReitz, reflect, schlick};
-use super::{Bsdf, BsdfSample};
+use super::{Bsdf, BsdfFlags, BsdfSample};
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -237,9 +237,13 @@ impl Bsdf for MetallicRoughnessBsdf {
         })
     }
 
-    fn is_delta(&self) -> bool {
-        self.distribution.is_smooth()
-            && (1.0 - self.metallic) * self.base_color.max_element() <= 0.0
+    fn flags(&self) -> BsdfFlags {
+        let specular = BsdfFlags::REFLECTION | BsdfFlags::microfacet(self.distribution.is_smooth());
+        if (1.0 - self.metallic) * self.base_color.max_element() > 0.0 {
+            specular | BsdfFlags::DIFFUSE
+        } else {
+            specular
+        }
     }
 }
 

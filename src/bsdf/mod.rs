@@ -12,6 +12,7 @@
 
 pub mod clearcoat;
 pub mod dielectric;
+pub mod flags;
 pub mod lambert;
 pub mod layered;
 pub mod metallic_roughness;
@@ -20,6 +21,7 @@ pub mod sheen;
 
 pub use clearcoat::ClearcoatBsdf;
 pub use dielectric::DielectricBsdf;
+pub use flags::BsdfFlags;
 pub use lambert::LambertBsdf;
 pub use layered::LayeredBsdf;
 pub use metallic_roughness::MetallicRoughnessBsdf;
@@ -102,10 +104,13 @@ pub trait Bsdf {
     /// Draws `wi` given `wo`; `u_lobe` chooses a lobe, `u` the direction within it. `None`
     /// when no direction can be drawn (e.g. `wo` below the horizon of a reflector).
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample>;
+    /// The kinds of lobes this BSDF has ([`BsdfFlags`]).
+    fn flags(&self) -> BsdfFlags;
     /// Whether every lobe is a delta lobe (then light sampling is pointless: `eval` is zero
     /// everywhere).
+    #[inline]
     fn is_delta(&self) -> bool {
-        false
+        self.flags().is_specular_only()
     }
 }
 

@@ -21,7 +21,7 @@
 //! **Sampling.** Cosine-weighted hemisphere, `pdf = cos θi / π` (the lobe is broad; the spec
 //! asks for nothing sharper).
 
-use super::{Bsdf, BsdfSample};
+use super::{Bsdf, BsdfFlags, BsdfSample};
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -104,6 +104,10 @@ impl SheenBsdf {
 }
 
 impl Bsdf for SheenBsdf {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::REFLECTION | BsdfFlags::GLOSSY
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         self.color * self.dv(wo, wi)

@@ -1,6 +1,7 @@
 //! `glint batch`: render the jobs of a TOML job file (or one shard of them) in one process.
 
 use super::CliError;
+use super::job_options::RenderOptions;
 use crate::batch::{self, BatchOptions, Shard, ShardSpec};
 use std::path::PathBuf;
 
@@ -47,7 +48,8 @@ pub struct BatchArgs {
 
 /// Runs `glint batch`. Fails (non-zero exit) when the job file is unusable or any job failed.
 pub fn run(args: BatchArgs) -> Result<(), CliError> {
-    let file = batch::jobs::load_file(&args.jobs).map_err(CliError::from_display)?;
+    let file =
+        batch::jobs::load_file(&args.jobs, &RenderOptions).map_err(CliError::from_display)?;
     let jobs = file.jobs;
     let shard = match args.shard {
         None => Shard::ALL,

@@ -5,6 +5,7 @@ use crate::accel::{BackendKind, BuildOptions};
 use crate::bench::render::{
     kernel_bench, procedural_scene, raw_trace, scene_to_bench_with, thread_scaling,
 };
+use crate::bench::timing::median_duration;
 use crate::bench::{BenchScene, RaysConfig, SceneSize, run_rays};
 use crate::procedural::Builtin;
 use crate::render::{self, RenderSettings};
@@ -261,7 +262,7 @@ pub struct KernelBenchArgs {
     pub threads: usize,
     /// Integrator: `direct` compares the kernels and the raw camera + shadow trace; `path`
     /// records the path tracer's own rays and replays them unshaded.
-    #[arg(long, value_enum, default_value_t = render::Integrator::Direct)]
+    #[arg(long, value_parser = super::values::integrator(), default_value_t = render::Integrator::Direct)]
     pub integrator: render::Integrator,
     /// Bounces of the path tracer (`--integrator path`).
     #[arg(long, default_value_t = 8)]
@@ -386,8 +387,12 @@ pub fn run_render(args: KernelBenchArgs) -> Result<(), CliError> {
                 .map_err(CliError::from_display)?,
         );
     }
-    raws.sort_by_key(|r| r.elapsed);
-    let raw = raws[raws.len() / 2];
+    let elapsed: Vec<_> = raws.iter().map(|r| r.elapsed).collect();
+    // Every run traces the same rays; only the time varies.
+    let raw = crate::bench::render::RawTrace {
+        elapsed: median_duration(&elapsed),
+        ..raws[0]
+    };
     let report = kernel_bench(&scene, accel.as_ref(), &camera, &settings, args.runs)
         .map_err(CliError::from_display)?;
     let rendered = report.rays as f64 / report.specialised.as_secs_f64().max(1e-12) / 1e6;
@@ -426,8 +431,8 @@ pub fn run_render(args: KernelBenchArgs) -> Result<(), CliError> {
              efficiency (median of {})",
             scaling.one.as_secs_f64(),
             scaling.all.as_secs_f64(),
-            scaling.speedup(),
-            100.0 * scaling.efficiency(),
+            scaling.scaling.speedup,
+            100.0 * scaling.scaling.efficiency,
             args.runs
         );
     }

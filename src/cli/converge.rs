@@ -6,8 +6,8 @@
 use super::CliError;
 use crate::accel::{Accel, BackendKind, BuildOptions};
 use crate::converge::{self, Measurement};
-use crate::render::job::SceneSource;
 use crate::render::{self, FilterSpec, Image, PixelSampling, RenderSettings};
+use crate::scene::SceneSource;
 use crate::scene::{self, Camera, Scene};
 use glam::Vec3;
 use std::path::PathBuf;
@@ -52,7 +52,7 @@ pub struct ConvergeArgs {
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
     /// Light transport measured: path or direct.
-    #[arg(long, value_enum, default_value_t = crate::render::Integrator::Path)]
+    #[arg(long, value_parser = super::values::integrator(), default_value_t = crate::render::Integrator::Path)]
     pub integrator: crate::render::Integrator,
     /// Every file the glTF refers to must resolve inside this folder (as for glint render).
     #[arg(long, value_name = "DIR")]
@@ -100,7 +100,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
     };
     let mut scene = source
         .load_with(&crate::scene::gltf::SceneSelection::default(), &options)
-        .map_err(crate::render::JobError::from)?;
+        .map_err(crate::job::JobError::from)?;
     for added in scene::defaults::complete(&mut scene) {
         say(added);
     }

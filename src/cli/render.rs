@@ -1,11 +1,12 @@
-//! `glint render`: the command line's spelling of a [`render::Job`] ([`RenderArgs::to_job`](crate::render::options::RenderArgs::to_job)), run by
-//! [`render::job::run`], which completes the scene, renders it and writes a PNG or EXR.
+//! `glint render`: the command line's spelling of a [`crate::job::Job`]
+//! ([`RenderArgs::to_job`]), run by [`job::run`], which completes the scene, renders it and
+//! writes a PNG or EXR.
 
 use super::CliError;
-use crate::render::{self, JobError, PreparedScene};
+use crate::job::{self, JobError, PreparedScene, RunOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-pub use crate::render::options::{AovName, DEMO_OUTPUT, RenderArgs, output_path};
+pub use super::render_args::{AovName, DEMO_OUTPUT, RenderArgs, output_path};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -32,7 +33,12 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let prepared = PreparedScene::new(scene, job.scene.label(), job.backend)?;
     let bar = DelayedProgress::new(args.quiet);
     let report = |done: usize, total: usize| bar.update(done, total);
-    let result = render::job::run(&job, &prepared, None, Some(&report), &say);
+    let options = RunOptions {
+        progress: Some(&report),
+        say: Some(&say),
+        ..RunOptions::default()
+    };
+    let result = job::run(&job, &prepared, options);
     bar.finish();
     let done = result?;
     say(format!(

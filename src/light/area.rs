@@ -39,9 +39,10 @@
 //! Points on the back of a one-sided emitter emit nothing: [`AreaLights::sample`] returns
 //! `None` for them, and `pdf` returns 0 there.
 
-use super::light_bvh::LightBvh;
+use super::light_bvh::{ClusterBounds, LightBvh};
 use super::placed_emitters::Cluster;
 use crate::accel::Placement;
+use crate::color::LUMINANCE;
 use crate::sampling::distribution::Distribution1D;
 use crate::sampling::triangle::{spherical_triangle, spherical_triangle_area, uniform_triangle};
 use glam::{Vec2, Vec3};
@@ -49,9 +50,6 @@ use std::f32::consts::PI;
 
 /// The solid angles (sr) for which a triangle is sampled by solid angle rather than by area.
 pub const SOLID_ANGLE_RANGE: (f32, f32) = (3e-4, 6.0);
-
-/// Rec. 709 luminance weights, for the power of a light.
-const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
 /// One emissive mesh as the constructor sees it: its triangles, where they are drawn, and
 /// whether both faces emit. A mesh that emits nothing is passed with no triangles (so mesh
@@ -222,6 +220,9 @@ pub struct AreaLights {
     copy_entries: Vec<(u32, u32)>,
     /// `None` when no triangle emits.
     selector: Option<LightSelector>,
+    /// The bounds of every light together (for choosing between these and other lights);
+    /// with a BVH selector its root holds the same.
+    bounds: Option<ClusterBounds>,
     /// Whether triangles in [`SOLID_ANGLE_RANGE`] are sampled by solid angle.
     solid_angle_sampling: bool,
 }
@@ -381,6 +382,19 @@ impl AreaLights {
                 powers.push(cluster.copy_power(copy));
             }
         }
+        let bounds = lights
+            .iter()
+            .zip(&powers)
+            .filter(|(l, w)| **w > 0.0 && w.is_finite() && l.area > 0.0)
+            .map(|(l, &w)| triangle_bounds(l, w))
+            .chain(
+                copy_entries
+                    .iter()
+                    .zip(&powers[lights.len()..])
+                    .filter(|(_, w)| **w > 0.0 && w.is_finite())
+                    .filter_map(|(&(k, c), _)| clusters[k as usize].copy_bounds(c as usize)),
+            )
+            .reduce(|a, b| a.union(&b));
         let selector = match mode {
             SelectionMode::Power => Distribution1D::new(&powers).map(LightSelector::Power),
             SelectionMode::Bvh => {
@@ -404,6 +418,7 @@ impl AreaLights {
             cluster_first,
             copy_entries,
             selector,
+            bounds,
             solid_angle_sampling: true,
         })
     }
@@ -435,6 +450,18 @@ impl AreaLights {
 
     /// Whether nothing emits (no light to sample; an integrator skips next-event estimation
     /// for area lights).
+    /// An upper bound on what these lights together deliver at `p` with normal `n` (zero if
+    /// unknown), in the light BVH's importance units: how a light sampler weighs them against
+    /// other lights. Positive wherever some light can reach `p`.
+    #[inline]
+    pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
+        match (&self.selector, &self.bounds) {
+            (Some(LightSelector::Bvh(bvh)), _) => bvh.importance(p, n),
+            (Some(_), Some(bounds)) => bounds.importance(p, n),
+            _ => 0.0,
+        }
+    }
+
     pub fn is_empty(&self) -> bool {
         self.selector.is_none()
     }
@@ -729,4 +756,26 @@ fn barycentrics(light: &TriangleLight, point: Vec3) -> [f32; 3] {
     let b1 = ((d11 * d20 - d01 * d21) / denom).clamp(0.0, 1.0);
     let b2 = ((d00 * d21 - d01 * d20) / denom).clamp(0.0, 1.0 - b1);
     [1.0 - b1 - b2, b1, b2]
+}
+
+/// The light BVH's bounds of one triangle light of power `power`.
+fn triangle_bounds(light: &TriangleLight, power: f32) -> ClusterBounds {
+    let [a, b, c] = light.vertices();
+    ClusterBounds {
+        min: a.min(b).min(c),
+        max: a.max(b).max(c),
+        axis: if light.normal == Vec3::ZERO {
+            Vec3::Z
+        } else {
+            light.normal
+        },
+        cos_theta: if light.normal == Vec3::ZERO {
+            -1.0
+        } else {
+            1.0
+        },
+        two_sided: light.two_sided,
+        cos_theta_e: 0.0,
+        power,
+    }
 }

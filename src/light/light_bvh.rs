@@ -64,8 +64,62 @@ pub struct ClusterBounds {
     pub cos_theta: f32,
     /// Whether some light in it emits from both faces.
     pub two_sided: bool,
+    /// Cosine of the emission half-angle `θ_e` around each normal: 0 (π/2) for area lights,
+    /// the outer cone's cosine for a spot light, −1 for a point light.
+    pub cos_theta_e: f32,
     /// Total power (W).
     pub power: f32,
+}
+
+impl ClusterBounds {
+    /// The bounds of a point light at `position` with power `power` (4π × the luminance of
+    /// its intensity): a point emitting in every direction.
+    pub fn point(position: Vec3, power: f32) -> Self {
+        Self {
+            min: position,
+            max: position,
+            axis: Vec3::Z,
+            cos_theta: -1.0,
+            two_sided: false,
+            cos_theta_e: -1.0,
+            power,
+        }
+    }
+
+    /// The bounds of a spot light at `position` shining along the unit `direction` within the
+    /// cone of cosine `cos_outer`.
+    pub fn spot(position: Vec3, direction: Vec3, cos_outer: f32, power: f32) -> Self {
+        Self {
+            min: position,
+            max: position,
+            axis: direction,
+            cos_theta: 1.0,
+            two_sided: false,
+            cos_theta_e: cos_outer.clamp(-1.0, 1.0),
+            power,
+        }
+    }
+
+    /// An upper bound on what the lights inside can deliver at `p` with normal `n` (zero if
+    /// unknown): the importance of the module doc. Positive wherever some light can reach `p`.
+    #[inline]
+    pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
+        Bounds::from_cluster(self).importance(p, n)
+    }
+
+    /// The smallest bounds holding both.
+    pub fn union(&self, other: &ClusterBounds) -> ClusterBounds {
+        let b = Bounds::union(&Bounds::from_cluster(self), &Bounds::from_cluster(other));
+        ClusterBounds {
+            min: b.min,
+            max: b.max,
+            axis: b.cone.axis,
+            cos_theta: b.cone.cos_theta,
+            two_sided: b.two_sided,
+            cos_theta_e: b.cos_theta_e,
+            power: b.power,
+        }
+    }
 }
 
 /// The cone (unit axis, cosine of the half-angle) holding the normals of `lights` (those of
@@ -135,9 +189,25 @@ struct Bounds {
     power: f32,
     cone: Cone,
     two_sided: bool,
+    /// Cosine of the emission half-angle around the cone (0: area lights' π/2).
+    cos_theta_e: f32,
 }
 
 impl Bounds {
+    fn from_cluster(c: &ClusterBounds) -> Self {
+        Bounds {
+            min: c.min,
+            max: c.max,
+            power: c.power,
+            cone: Cone {
+                axis: c.axis,
+                cos_theta: c.cos_theta,
+            },
+            two_sided: c.two_sided,
+            cos_theta_e: c.cos_theta_e,
+        }
+    }
+
     fn of(light: &TriangleLight, power: f32) -> Self {
         let [a, b, c] = light.vertices();
         Self {
@@ -149,6 +219,7 @@ impl Bounds {
                 cos_theta: 1.0,
             },
             two_sided: light.two_sided,
+            cos_theta_e: 0.0,
         }
     }
 
@@ -159,6 +230,7 @@ impl Bounds {
             power: a.power + b.power,
             cone: Cone::union(a.cone, b.cone),
             two_sided: a.two_sided || b.two_sided,
+            cos_theta_e: a.cos_theta_e.min(b.cos_theta_e),
         }
     }
 
@@ -206,8 +278,9 @@ impl Bounds {
         } else {
             cos_x * cos_b + sin_x * sin_b
         };
-        // θ_e = π/2 for area lights: nothing beyond the tangent plane.
-        if cos_p <= 0.0 {
+        // Nothing beyond θ_e (π/2 for area lights: the tangent plane). A point light's
+        // θ_e = π excludes nothing.
+        if cos_p <= self.cos_theta_e && self.cos_theta_e > -1.0 {
             return 0.0;
         }
         let mut importance = self.power * cos_p / d2;
@@ -227,7 +300,12 @@ impl Bounds {
     /// The build's cost measure `Φ · M_Ω · area(box)`.
     fn cost(&self) -> f32 {
         let theta_o = self.cone.cos_theta.clamp(-1.0, 1.0).acos();
-        let theta_w = (theta_o + FRAC_PI_2).min(PI);
+        let theta_e = if self.cos_theta_e == 0.0 {
+            FRAC_PI_2
+        } else {
+            self.cos_theta_e.clamp(-1.0, 1.0).acos()
+        };
+        let theta_w = (theta_o + theta_e).min(PI);
         let (sin_o, cos_o) = theta_o.sin_cos();
         let m_omega = 2.0 * PI * (1.0 - cos_o)
             + FRAC_PI_2
@@ -300,16 +378,7 @@ impl LightBvh {
                 .enumerate()
                 .filter(|(_, c)| c.power > 0.0 && c.power.is_finite())
                 .map(|(j, c)| Item {
-                    bounds: Bounds {
-                        min: c.min,
-                        max: c.max,
-                        power: c.power,
-                        cone: Cone {
-                            axis: c.axis,
-                            cos_theta: c.cos_theta,
-                        },
-                        two_sided: c.two_sided,
-                    },
+                    bounds: Bounds::from_cluster(c),
                     centroid: 0.5 * (c.min + c.max),
                     // Fits: AreaLights holds fewer than u32::MAX entries.
                     light: (lights.len() + j) as u32,
@@ -360,6 +429,20 @@ impl LightBvh {
     /// Number of nodes.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
+    }
+
+    /// A tree over `entries` alone (point and spot lights): entry `j` is light `j`.
+    pub fn over(entries: &[ClusterBounds]) -> Option<Self> {
+        Self::with_clusters(&[], &[], entries)
+    }
+
+    /// The root's importance at `p` with normal `n`: what the whole tree can deliver there
+    /// (an upper bound, positive wherever some light can reach `p`).
+    #[inline]
+    pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
+        self.nodes
+            .first()
+            .map_or(0.0, |root| root.bounds.importance(p, n))
     }
 
     /// Chooses a light for the point `p` with normal `n` (zero if unknown) with the uniform

@@ -11,9 +11,10 @@
 //! | [`SpotLight`] | as point, plus direction, cos inner, cos outer | I · s(cosφ) · W(d) / d² |
 //! | [`DirectionalLight`] | direction of travel, irradiance E (W/m²) | E |
 //!
-//! W is the range window of [`range`] and s the cone falloff of [`spot`]. [`LightSet`] sorts
-//! a scene's lights by type once, so a renderer loops over each type with the type known at
-//! compile time: a scene without spot lights runs no cone test, one without ranges no window.
+//! W is the range window of [`range`] and s the cone falloff of [`spot`]. [`LightSet`]
+//! validates a render's punctual lights once; [`LightSampler`] is the one interface the
+//! integrators sample every light through (punctual, emissive triangles in [`area`], the
+//! environment in [`environment`]).
 
 pub mod area;
 pub mod directional;
@@ -23,6 +24,7 @@ pub mod light_bvh;
 pub mod placed_emitters;
 pub mod point;
 pub mod range;
+pub mod sampler;
 pub mod spot;
 
 pub use area::{AreaLights, AreaSample, EmitterMesh};
@@ -30,6 +32,7 @@ pub use directional::DirectionalLight;
 pub use environment::{EnvSample, EnvironmentError, EnvironmentLight};
 pub use point::PointLight;
 pub use range::{Bounded, RangeWindow, Unbounded};
+pub use sampler::{LightSample, LightSampler, NoLightSample};
 pub use spot::SpotLight;
 
 use crate::scene::Light;
@@ -58,17 +61,6 @@ impl LightUnits {
             LightUnits::Photometric => 1.0 / LUMENS_PER_WATT,
         }
     }
-}
-
-/// `light` with its intensity (or irradiance) multiplied by `factor`, e.g.
-/// `LightUnits::Photometric.to_radiometric()` to convert a photometric light.
-pub fn scaled(light: &Light, factor: f32) -> Light {
-    let mut light = light.clone();
-    match &mut light {
-        Light::Point { intensity, .. } | Light::Spot { intensity, .. } => *intensity *= factor,
-        Light::Directional { irradiance, .. } => *irradiance *= factor,
-    }
-    light
 }
 
 /// Where the shadow ray of a light sample goes.
@@ -109,9 +101,8 @@ pub trait PunctualLight: Send + Sync {
     fn incident(&self, p: Vec3) -> Result<Incident, Unlit>;
 }
 
-/// A light whose type is only known at run time: what a renderer that is not specialised for
-/// the scene evaluates (a branch on the type and a range window for every light). Gives the
-/// same values as the typed lights.
+/// A punctual light of any type (a branch on the type and a range window, infinite without
+/// a range). Gives the same values as the typed lights.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GeneralLight {
     /// A point light with a (possibly infinite) range.
@@ -145,27 +136,17 @@ pub struct LightError {
     pub reason: String,
 }
 
-/// A scene's lights, sorted by type (and by whether they have a range) for specialised
-/// loops, plus the same lights as [`GeneralLight`]s for the general kernel.
+/// A render's punctual lights, validated and in radiometric units, in scene order; the
+/// [`LightSampler`] chooses among them.
 #[derive(Clone, Debug, Default)]
 pub struct LightSet {
-    /// Point lights without range.
-    pub points: Vec<PointLight<Unbounded>>,
-    /// Point lights with a range.
-    pub ranged_points: Vec<PointLight<Bounded>>,
-    /// Spot lights without range.
-    pub spots: Vec<SpotLight<Unbounded>>,
-    /// Spot lights with a range.
-    pub ranged_spots: Vec<SpotLight<Bounded>>,
-    /// Directional lights.
-    pub directionals: Vec<DirectionalLight>,
-    /// All of them, typed at run time.
-    pub general: Vec<GeneralLight>,
+    /// The lights that can contribute (black ones are dropped).
+    pub lights: Vec<GeneralLight>,
 }
 
 impl LightSet {
-    /// Validates and sorts `lights`, scaling intensities by `units.to_radiometric()`. Lights
-    /// that emit nothing (zero intensity) are dropped: they can never contribute.
+    /// Validates `lights`, scaling intensities by `units.to_radiometric()`. Lights that emit
+    /// nothing (zero intensity) are dropped: they can never contribute.
     pub fn new(lights: &[Light], units: LightUnits) -> Result<Self, LightError> {
         let scale = units.to_radiometric();
         let mut set = LightSet::default();
@@ -191,19 +172,14 @@ impl LightSet {
                     if intensity == Vec3::ZERO {
                         continue;
                     }
-                    let intensity = intensity * scale;
-                    match range.map(Bounded::new).transpose().map_err(err)? {
-                        None => set
-                            .points
-                            .push(PointLight::new(position, intensity, Unbounded)),
-                        Some(window) => set
-                            .ranged_points
-                            .push(PointLight::new(position, intensity, window)),
-                    }
-                    set.general.push(GeneralLight::Point(PointLight::new(
+                    let window = match range {
+                        Some(r) => Bounded::new(r).map_err(err)?,
+                        None => Bounded::from_option(None),
+                    };
+                    set.lights.push(GeneralLight::Point(PointLight::new(
                         position,
-                        intensity,
-                        Bounded::from_option(range),
+                        intensity * scale,
+                        window,
                     )));
                 }
                 Light::Spot {
@@ -223,22 +199,17 @@ impl LightSet {
                     if intensity == Vec3::ZERO {
                         continue;
                     }
-                    let intensity = intensity * scale;
-                    match range.map(Bounded::new).transpose().map_err(err)? {
-                        None => set.spots.push(SpotLight::new(
-                            position, direction, intensity, cos_inner, cos_outer, Unbounded,
-                        )),
-                        Some(window) => set.ranged_spots.push(SpotLight::new(
-                            position, direction, intensity, cos_inner, cos_outer, window,
-                        )),
-                    }
-                    set.general.push(GeneralLight::Spot(SpotLight::new(
+                    let window = match range {
+                        Some(r) => Bounded::new(r).map_err(err)?,
+                        None => Bounded::from_option(None),
+                    };
+                    set.lights.push(GeneralLight::Spot(SpotLight::new(
                         position,
                         direction,
-                        intensity,
+                        intensity * scale,
                         cos_inner,
                         cos_outer,
-                        Bounded::from_option(range),
+                        window,
                     )));
                 }
                 Light::Directional {
@@ -250,9 +221,11 @@ impl LightSet {
                     if irradiance == Vec3::ZERO {
                         continue;
                     }
-                    let light = DirectionalLight::new(direction, irradiance * scale);
-                    set.directionals.push(light);
-                    set.general.push(GeneralLight::Directional(light));
+                    set.lights
+                        .push(GeneralLight::Directional(DirectionalLight::new(
+                            direction,
+                            irradiance * scale,
+                        )));
                 }
             }
         }
@@ -261,12 +234,12 @@ impl LightSet {
 
     /// Number of lights that can contribute.
     pub fn len(&self) -> usize {
-        self.general.len()
+        self.lights.len()
     }
 
     /// Whether no light can contribute.
     pub fn is_empty(&self) -> bool {
-        self.general.is_empty()
+        self.lights.is_empty()
     }
 }
 
@@ -300,7 +273,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn lights_are_sorted_by_type_and_scaled() {
+    fn lights_are_validated_and_scaled() {
         let lights = [
             Light::Point {
                 position: Vec3::Y,
@@ -318,10 +291,9 @@ mod tests {
             },
         ];
         let set = LightSet::new(&lights, LightUnits::Photometric).unwrap();
-        assert_eq!((set.points.len(), set.ranged_points.len()), (1, 1));
-        assert!(set.directionals.is_empty(), "a black light is dropped");
-        assert_eq!(set.len(), 2);
-        let e = set.points[0].incident(Vec3::ZERO).unwrap().irradiance;
+        assert_eq!(set.len(), 2, "a black light is dropped");
+        assert!(matches!(set.lights[1], GeneralLight::Point(_)));
+        let e = set.lights[0].incident(Vec3::ZERO).unwrap().irradiance;
         assert!((e - Vec3::ONE).abs().max_element() < 1e-6);
     }
 

@@ -129,6 +129,7 @@ impl Cluster {
                 self.cone.1
             },
             two_sided: self.two_sided,
+            cos_theta_e: 0.0,
             power: self.copy_power(copy),
         })
     }

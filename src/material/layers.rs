@@ -132,3 +132,62 @@ impl ShadingLayers {
         )
     }
 }
+
+/// `layers` with each textured factor multiplied by its texture's channel at `at` (clamped
+/// to [0, 1], as the factors are): `clearcoatTexture` (R), `clearcoatRoughnessTexture` (G),
+/// `sheenColorTexture` (RGB), `sheenRoughnessTexture` (A), `transmissionTexture` (R).
+#[inline]
+pub fn at_hit(
+    textures: &crate::texture::TextureEvaluator<'_>,
+    at: &crate::texture::TexturePoint<'_>,
+    layers: &ShadingLayers,
+) -> ShadingLayers {
+    let mut out = *layers;
+    let lookup = |t| textures.value(at, t);
+    if let Some(c) = &mut out.clearcoat {
+        if let Some(t) = &c.texture {
+            c.factor = (c.factor * lookup(t).x).clamp(0.0, 1.0);
+        }
+        if let Some(t) = &c.roughness_texture {
+            c.roughness = (c.roughness * lookup(t).y).clamp(0.0, 1.0);
+        }
+    }
+    if let Some(s) = &mut out.sheen {
+        if let Some(t) = &s.color_texture {
+            s.color = (s.color * lookup(t).truncate()).clamp(Vec3::ZERO, Vec3::ONE);
+        }
+        if let Some(t) = &s.roughness_texture {
+            s.roughness = (s.roughness * lookup(t).w).clamp(0.0, 1.0);
+        }
+    }
+    if let Some(tr) = &mut out.transmission
+        && let Some(t) = &tr.texture
+    {
+        tr.factor = (tr.factor * lookup(t).x).clamp(0.0, 1.0);
+    }
+    out
+}
+
+/// The clear coat's normal-mapped shading normal (`clearcoatNormalTexture`) at `at`, in the
+/// local frame of `frame` (the BSDF's), or `None` when the coat has no normal map or the
+/// mesh no tangents (the coat then uses the shading normal). As for the base's normal map
+/// ([`super::normal_map::at_hit`]) the map perturbs the interpolated vertex normal
+/// `vertex_ns` (on the incoming side) and is bent to reflect `si.wo` above the surface.
+#[inline]
+pub fn coat_normal(
+    textures: &crate::texture::TextureEvaluator<'_>,
+    at: &crate::texture::TexturePoint<'_>,
+    vertex_ns: Vec3,
+    material: &super::ShadingMaterial,
+    frame: &crate::bsdf::Frame,
+) -> Option<Vec3> {
+    use super::normal_map::{keep_reflection_above, perturbed_normal};
+    let normal = material.layers?.clearcoat?.normal_texture?;
+    let si = at.si;
+    let tangent = si.tangent_to_world(si.interpolate(at.mesh.tangents.as_deref()?)?);
+    let side = if si.front_face { 1.0 } else { -1.0 };
+    let texel = textures.value(at, &normal.texture).truncate();
+    let (n, _) = perturbed_normal(texel, normal.scale, side * vertex_ns, tangent)?;
+    let n = keep_reflection_above(side * n, si.ng, si.wo);
+    Some(frame.to_local(n))
+}

@@ -1,28 +1,22 @@
-//! Surface scattering: glTF metallic-roughness materials mapped onto glint's two BRDFs.
+//! Materials: glTF's metallic-roughness materials (with their KHR_materials extensions)
+//! prepared once per render ([`ShadingMaterial`]) and turned into what shading needs at each
+//! hit by one call, [`at_hit`](fn@at_hit) (the surface front end): shading normal, normal map, colours,
+//! emission, texture-driven factors, layers and the BSDF ([`SurfaceBsdf`]).
 //!
-//! A material's reflectance ρ is `base colour × vertex colour (COLOR_0) × base colour texture`,
-//! all linear RGB. It is split between two lobes by [`Material::diffuse_weight`] and
-//! [`Material::mirror_weight`](crate::scene::Material::mirror_weight):
-//! - [`lambert`]: `f = diffuse_weight · ρ / π`;
-//! - [`mirror`]: a perfect specular reflection with reflectance `mirror_weight · ρ`.
-//!
-//! Emission is `emissive × emissive texture` (W/(m²·sr)). Back faces of single-sided materials
-//! neither emit nor reflect (camera rays cull them). Alpha coverage decides which hits count
-//! (`render::visibility`); an unlit material (KHR_materials_unlit) emits ρ and scatters
-//! nothing. [`texture`] holds the bilinear lookup; [`normal_map`] turns a normal texture's
-//! texel into the shading normal.
-//!
-//! [`Material::diffuse_weight`]: crate::scene::Material::diffuse_weight
+//! A material's base colour ρ is `base colour × vertex colour (COLOR_0) × base colour
+//! texture`, all linear RGB; emission is `emissive × emissive texture` (W/(m²·sr)). Back
+//! faces of single-sided materials neither emit nor reflect (camera rays cull them). Alpha
+//! coverage decides which hits count (`render::visibility`); an unlit material
+//! (KHR_materials_unlit) emits ρ and scatters nothing. [`normal_map`] turns a normal
+//! texture's texel into the shading normal; [`layers`] holds the KHR_materials layers.
 
-pub mod lambert;
+pub mod at_hit;
 pub mod layers;
-pub mod mirror;
 pub mod normal_map;
 pub mod scattering;
-pub mod texture;
 
-pub use lambert::Lambert;
-pub use mirror::{Mirror, reflect};
+pub use at_hit::{HitQuery, SurfaceAtHit, at_hit};
+pub use scattering::SurfaceBsdf;
 
 use crate::scene::{Material, Scene, TextureRef};
 use glam::Vec3;
@@ -34,13 +28,11 @@ pub struct ShadingMaterial {
     pub base_color: Vec3,
     /// Base colour texture, if it names an existing texture.
     pub base_color_texture: Option<TextureRef>,
-    /// Share of ρ reflected diffusely (the direct integrator's mapping).
-    pub diffuse_weight: f32,
-    /// glTF metalness in [0, 1] (the path tracer's metallic-roughness BRDF).
+    /// glTF metalness in [0, 1].
     pub metallic: f32,
     /// glTF perceptual roughness in [0, 1].
     pub roughness: f32,
-    /// Metallic-roughness texture (B × metallic, G × roughness; the path tracer's BRDF).
+    /// Metallic-roughness texture (B × metallic, G × roughness).
     pub metallic_roughness_texture: Option<TextureRef>,
     /// Dielectric index of refraction (KHR_materials_ior).
     pub ior: f32,
@@ -48,8 +40,6 @@ pub struct ShadingMaterial {
     pub specular: f32,
     /// See [`ShadingMaterial::specular`].
     pub specular_color: Vec3,
-    /// Share of ρ reflected as a mirror.
-    pub mirror_weight: f32,
     /// Emitted radiance factor, W/(m²·sr).
     pub emissive: Vec3,
     /// Emissive texture, if it names an existing texture.
@@ -74,14 +64,12 @@ impl ShadingMaterial {
         Self {
             base_color: material.base_color.truncate(),
             base_color_texture: valid(&material.base_color_texture),
-            diffuse_weight: material.diffuse_weight(),
             metallic: material.metallic,
             roughness: material.roughness,
             metallic_roughness_texture: valid(&material.metallic_roughness_texture),
             ior: material.ior,
             specular: material.specular,
             specular_color: material.specular_color,
-            mirror_weight: material.mirror_weight(),
             emissive: material.emissive,
             emissive_texture: valid(&material.emissive_texture),
             double_sided: material.double_sided,
@@ -93,6 +81,25 @@ impl ShadingMaterial {
             layers: layers::ShadingLayers::of(material)
                 .map(|l| l.with_valid_textures(texture_count)),
         }
+    }
+
+    /// Whether light may pass through the surface (KHR_materials_transmission): back faces
+    /// are then shaded whatever `doubleSided` says (a ray leaving glass meets them inside).
+    #[inline]
+    pub fn may_transmit(&self) -> bool {
+        self.layers.is_some_and(|l| l.transmits())
+    }
+
+    /// Whether the material reads any texture at a hit (then a ray's differential is worth
+    /// turning into a footprint).
+    #[inline]
+    pub fn textured(&self) -> bool {
+        self.base_color_texture.is_some()
+            || self.metallic_roughness_texture.is_some()
+            || self.emissive_texture.is_some()
+            || self.normal_texture.is_some()
+            || self.procedural.is_some()
+            || self.layers.is_some_and(|l| l.has_textures())
     }
 
     /// The materials of `scene`, plus glTF's default material at the end for meshes whose

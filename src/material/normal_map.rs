@@ -122,6 +122,28 @@ pub fn keep_reflection_above(ns: Vec3, ng: Vec3, wo: Vec3) -> Vec3 {
     }
 }
 
+/// The material's normal-mapped shading normal at `at` and the tangent of its frame, bent so
+/// that it reflects `si.wo` above the geometric surface; `None` when the material has no
+/// normal map or the mesh no tangents.
+///
+/// `at.si.ns` must be the interpolated vertex normal (or `ng`) on the incoming side; the map
+/// is applied in the front face's frame and negated for a back face, as glTF reverses
+/// back-face normals.
+#[inline]
+pub fn at_hit(
+    textures: &crate::texture::TextureEvaluator<'_>,
+    at: &crate::texture::TexturePoint<'_>,
+    material: &super::ShadingMaterial,
+) -> Option<(Vec3, Vec3)> {
+    let normal = material.normal_texture.as_ref()?;
+    let si = at.si;
+    let tangent = si.tangent_to_world(si.interpolate(at.mesh.tangents.as_deref()?)?);
+    let side = if si.front_face { 1.0 } else { -1.0 };
+    let texel = textures.value(at, &normal.texture).truncate();
+    let (ns, t) = perturbed_normal(texel, normal.scale, side * si.ns, tangent)?;
+    Some((keep_reflection_above(side * ns, si.ng, si.wo), side * t))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

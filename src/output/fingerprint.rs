@@ -15,8 +15,8 @@
 //! Not covered: an environment map or light file given to the render (`--environment`,
 //! `--lights`), which are not part of the scene.
 
-use crate::render::job::{Job, SceneSource};
-use crate::scene::{Camera, Projection};
+use crate::scene::gltf::SceneSelection;
+use crate::scene::{Camera, Projection, SceneSource};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use xxhash_rust::xxh3::Xxh3;
@@ -50,16 +50,22 @@ const GLB_JSON_CHUNK: u32 = 0x4E4F_534A;
 const GLB_HEADERS_BYTES: usize = 20;
 
 impl SceneTag {
-    /// The tag of `job` rendered through `camera` at `width`×`height`. Reads the scene file
-    /// and every external file it names again (streamed); an error names the file.
-    pub fn of(job: &Job, camera: &Camera, width: u32, height: u32) -> std::io::Result<Self> {
+    /// The tag of the scene `source` (the scene and time `selection` names) rendered through
+    /// `camera` at `width`×`height`. Reads the scene file and every external file it names
+    /// again (streamed); an error names the file.
+    pub fn of(
+        source: &SceneSource,
+        selection: &SceneSelection,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> std::io::Result<Self> {
         let mut hash = Xxh3::new();
         hash.update(FORMAT);
-        match &job.scene {
+        match source {
             SceneSource::Demo => hash.update(b"demo\0"),
             SceneSource::File(path) => hash_scene_files(&mut hash, path)?,
         }
-        let selection = &job.selection;
         hash.update(&selection.scene.map_or(u64::MAX, |s| s as u64).to_le_bytes());
         hash.update(&selection.time.map_or(u32::MAX, f32::to_bits).to_le_bytes());
         hash.update(&width.to_le_bytes());
@@ -77,7 +83,7 @@ impl SceneTag {
             hash.update(&x.to_bits().to_le_bytes());
         }
         Ok(SceneTag {
-            scene: job.scene.label(),
+            scene: source.label(),
             fingerprint: format!("{:032x}", hash.digest128()),
             kernels: None,
         })
@@ -226,12 +232,13 @@ mod tests {
         let b = dir.path().join("b.gltf");
         std::fs::write(&a, b"{\"asset\":{\"version\":\"2.0\"}}").unwrap();
         std::fs::write(&b, b"{\"asset\":{\"version\":\"2.0\"} }").unwrap();
-        let job = |path: &std::path::Path, time: Option<f32>| Job {
-            scene: SceneSource::File(path.to_path_buf()),
-            selection: crate::scene::gltf::SceneSelection { scene: None, time },
-            ..Job::default()
+        let job = |path: &std::path::Path, time: Option<f32>| {
+            let source = SceneSource::File(path.to_path_buf());
+            (source, SceneSelection { scene: None, time })
         };
-        let tag = |j: &Job, c: &Camera, w| SceneTag::of(j, c, w, 10).unwrap().fingerprint;
+        let tag = |(s, t): &(SceneSource, SceneSelection), c: &Camera, w| {
+            SceneTag::of(s, t, c, w, 10).unwrap().fingerprint
+        };
         let base = tag(&job(&a, None), &camera(0.0), 10);
         assert_eq!(base.len(), 32);
         assert_eq!(base, tag(&job(&a, None), &camera(0.0), 10), "deterministic");
@@ -243,7 +250,8 @@ mod tests {
         ] {
             assert_ne!(base, other);
         }
-        let missing = SceneTag::of(&job(&dir.path().join("gone.glb"), None), &camera(0.0), 1, 1);
+        let (gone, at_rest) = job(&dir.path().join("gone.glb"), None);
+        let missing = SceneTag::of(&gone, &at_rest, &camera(0.0), 1, 1);
         assert!(missing.unwrap_err().to_string().contains("gone.glb"));
     }
 
@@ -259,11 +267,9 @@ mod tests {
         )
         .unwrap();
         std::fs::create_dir(dir.path().join("sub")).unwrap();
-        let job = Job {
-            scene: SceneSource::File(scene.clone()),
-            ..Job::default()
-        };
-        let tag = || SceneTag::of(&job, &camera(0.0), 4, 4).map(|t| t.fingerprint);
+        let source = SceneSource::File(scene.clone());
+        let at_rest = SceneSelection::default();
+        let tag = || SceneTag::of(&source, &at_rest, &camera(0.0), 4, 4).map(|t| t.fingerprint);
         std::fs::write(dir.path().join("a b.bin"), [1u8, 2, 3, 4]).unwrap();
         let missing = tag().unwrap_err().to_string();
         assert!(

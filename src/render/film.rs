@@ -423,11 +423,7 @@ impl Film {
     }
 }
 
-/// Rec. 709 / sRGB luminance of linear RGB.
-#[inline]
-pub fn luminance(rgb: Vec3) -> f32 {
-    rgb.dot(Vec3::new(0.2126, 0.7152, 0.0722))
-}
+pub use crate::color::luminance;
 
 #[inline]
 fn safe_div3(sum: Vec3, weight: f32) -> Vec3 {

@@ -25,9 +25,9 @@
 //! not traced and the kernels' only addition is one emptiness check per batch of camera rays.
 
 use super::film::{AovSelection, Image, TileSums};
-use super::integrator::TileContext;
 use super::stats::RayCounts;
 use super::tiles::Tile;
+use super::wavefront::TileContext;
 use crate::accel::{Coherence, Hit, Ray};
 use crate::scene::Scene;
 

@@ -1,22 +1,17 @@
-//! Shading kernels specialised for what a scene uses.
+//! What per-hit work a render does, from the scene's features: texture lookups (and so MIP
+//! chains and ray differentials), vertex colours, shading normals, normal maps, area-light and
+//! environment sampling, alpha tests and back-face culling ([`KernelFlags`]). The summary line
+//! names what was left out.
 //!
-//! The tile integrator is generic over five compile-time switches: texture lookups, mirror
-//! reflections, vertex colours, interpolated shading normals and normal maps (tangent
-//! frames; only in instances with textures). `select` picks the
-//! instance whose switches match the scene's [`SceneFeatures`], so per-hit work the scene
-//! cannot need is not compiled into the loop that runs. Lights are specialised separately:
-//! [`LightSet`](crate::light::LightSet) keeps one list per light type and range kind, each
-//! looped over with its type known, so a scene without spot lights runs no cone test and one
-//! without ranges no range window.
-//!
-//! The general kernel turns every switch on and evaluates lights through the run-time typed
-//! [`GeneralLight`](crate::light::GeneralLight). It gives the same image and exists to measure
-//! what the specialisation buys (`bench::render::kernel_bench`).
+//! There is one shading kernel (`path::render_tile`). Until issue 21 it was compiled in 12
+//! instances (and the classic direct kernel in 24) with const switches for textures, vertex
+//! colours, shading normals and normal maps; `glint bench render` measured the general
+//! instance within noise of the specialised ones (Suzanne 0.98×, 2CylinderEngine 0.91×,
+//! DamagedHelmet 1.07× with alpha tests and culling also on), the per-hit checks being
+//! branches on data the hit reads anyway, so the instances went. [`KernelChoice::General`]
+//! still turns every flag on (textures, alpha tests and culling for every mesh): it gives the
+//! same image and measures what deciding per scene buys (`bench::render::kernel_bench`).
 
-use super::film::TileSums;
-use super::integrator::{Pass, Scratch, TileContext, render_tile};
-use super::stats::RayCounts;
-use super::tiles::Tile;
 use crate::scene::SceneFeatures;
 
 /// Which kernel renders.
@@ -25,7 +20,7 @@ pub enum KernelChoice {
     /// The kernel specialised for the scene's features (the default).
     #[default]
     Specialised,
-    /// Every feature on, lights typed at run time.
+    /// Every feature on.
     General,
 }
 
@@ -34,22 +29,16 @@ pub enum KernelChoice {
 pub struct KernelFlags {
     /// Interpolates texture coordinates and samples textures.
     pub textures: bool,
-    /// Traces mirror reflection rays.
-    pub mirrors: bool,
     /// Interpolates vertex colours.
     pub vertex_colors: bool,
     /// Interpolates vertex normals.
     pub shading_normals: bool,
     /// Reads normal maps and builds tangent frames (only with `textures`).
     pub normal_maps: bool,
-    /// Loops over lights per type (false: one run-time typed list).
-    pub typed_lights: bool,
-    /// The path kernel runs (path tracing, or direct light with area or environment lights):
-    /// set by the scheduler once it knows the render's lights.
-    pub path: bool,
-    /// Area lights are sampled (the scene has emissive triangles; path kernel only).
+    /// Area lights are sampled (the scene has emissive triangles): set by the scheduler once
+    /// it knows the render's lights.
     pub area_lights: bool,
-    /// The environment is sampled (path kernel only).
+    /// The environment is sampled.
     pub environment: bool,
     /// Hits on MASK and BLEND materials are alpha-tested, and rays continue past rejected
     /// ones (see [`super::visibility`]).
@@ -64,12 +53,9 @@ impl KernelFlags {
         match choice {
             KernelChoice::Specialised => Self {
                 textures: features.textures,
-                mirrors: features.mirrors,
                 vertex_colors: features.vertex_colors,
                 shading_normals: features.shading_normals,
                 normal_maps: features.normal_maps,
-                typed_lights: true,
-                path: false,
                 area_lights: false,
                 environment: false,
                 alpha: features.alpha,
@@ -77,12 +63,9 @@ impl KernelFlags {
             },
             KernelChoice::General => Self {
                 textures: true,
-                mirrors: true,
                 vertex_colors: true,
                 shading_normals: true,
                 normal_maps: true,
-                typed_lights: false,
-                path: false,
                 area_lights: false,
                 environment: false,
                 alpha: true,
@@ -90,65 +73,4 @@ impl KernelFlags {
             },
         }
     }
-}
-
-/// A tile renderer: one monomorphised instance of the integrator.
-pub(crate) type TileFn = fn(&TileContext<'_>, Pass, &Tile, &mut Scratch) -> (TileSums, RayCounts);
-
-/// The path-tracing instance for `flags` (mirrors are part of every BSDF there). Normal maps
-/// are texture lookups, so their instances exist only with textures on.
-pub(crate) fn select_path(flags: &KernelFlags) -> TileFn {
-    use super::path::render_tile_path;
-    let normal_maps = flags.normal_maps && flags.textures;
-    match (
-        flags.textures,
-        flags.vertex_colors,
-        flags.shading_normals,
-        normal_maps,
-    ) {
-        (false, false, false, _) => render_tile_path::<false, false, false, false>,
-        (false, false, true, _) => render_tile_path::<false, false, true, false>,
-        (false, true, false, _) => render_tile_path::<false, true, false, false>,
-        (false, true, true, _) => render_tile_path::<false, true, true, false>,
-        (true, false, false, false) => render_tile_path::<true, false, false, false>,
-        (true, false, true, false) => render_tile_path::<true, false, true, false>,
-        (true, true, false, false) => render_tile_path::<true, true, false, false>,
-        (true, true, true, false) => render_tile_path::<true, true, true, false>,
-        (true, false, false, true) => render_tile_path::<true, false, false, true>,
-        (true, false, true, true) => render_tile_path::<true, false, true, true>,
-        (true, true, false, true) => render_tile_path::<true, true, false, true>,
-        (true, true, true, true) => render_tile_path::<true, true, true, true>,
-    }
-}
-
-/// The integrator instance for `flags` (the light typing is read from the context).
-pub(crate) fn select(flags: &KernelFlags) -> TileFn {
-    macro_rules! pick {
-        ($($t:literal $m:literal $c:literal $n:literal),* $(,)?) => {
-            match (flags.textures, flags.mirrors, flags.vertex_colors, flags.shading_normals) {
-                $(($t, $m, $c, $n) => render_tile::<$t, $m, $c, $n, false>,)*
-            }
-        };
-    }
-    macro_rules! pick_mapped {
-        ($($m:literal $c:literal $n:literal),* $(,)?) => {
-            match (flags.mirrors, flags.vertex_colors, flags.shading_normals) {
-                $(($m, $c, $n) => render_tile::<true, $m, $c, $n, true>,)*
-            }
-        };
-    }
-    if flags.normal_maps && flags.textures {
-        return pick_mapped!(
-            false false false, false false true, false true false, false true true,
-            true false false, true false true, true true false, true true true,
-        );
-    }
-    pick!(
-        false false false false, false false false true, false false true false,
-        false false true true, false true false false, false true false true,
-        false true true false, false true true true, true false false false,
-        true false false true, true false true false, true false true true,
-        true true false false, true true false true, true true true false,
-        true true true true,
-    )
 }

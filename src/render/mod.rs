@@ -1,11 +1,13 @@
-//! The renderer: direct illumination from punctual lights, mirror reflections and emission,
-//! in radiometric units (radiance in W/(m²·sr)).
+//! The renderer: the rendering equation by path tracing, or direct light only, in radiometric
+//! units (radiance in W/(m²·sr)).
 //!
-//! - [`job`]: one whole render, scene file to image file ([`Job`], [`PreparedScene`], [`job::run`]).
 //! - [`prepare`]: scene → acceleration structure (reusable across renders).
 //! - [`render`]: one image of a prepared scene through one camera.
 //! - [`camera`], [`sampler`], [`film`], [`tiles`]: the pieces, each a small type.
-//! - [`kernel`]: the shading kernel specialised for the scene's features.
+//! - `wavefront`: the skeleton every integrator runs on (camera samples, batched tracing,
+//!   shadow batches, first-hit AOVs); [`path`]: the integrator (path tracing, or direct light
+//!   with `Integrator::Direct`).
+//! - [`kernel`]: which per-hit work a scene needs.
 //! - [`stats`]: what a render traced and what it skipped.
 //!
 //! Tiles render in parallel on a dedicated rayon pool of [`RenderSettings::threads`] threads.
@@ -14,13 +16,8 @@ pub mod camera;
 pub mod film;
 pub mod filter;
 pub mod ids;
-pub(crate) mod integrator;
-pub mod job;
 pub mod kernel;
-mod layer_textures;
 pub mod medium;
-mod normal_maps;
-pub mod options;
 pub mod partial;
 pub mod path;
 pub mod progressive;
@@ -29,11 +26,11 @@ pub mod scheduler;
 pub mod stats;
 pub mod tiles;
 pub(crate) mod visibility;
+pub(crate) mod wavefront;
 
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};
 pub use filter::{FilterKind, FilterSpec};
-pub use job::{Job, JobError, JobOutput, PreparedScene};
 pub use kernel::{KernelChoice, KernelFlags};
 pub use progressive::{ProgressiveOutput, StopReason, StopRule, render_progressive};
 pub use sampler::{PixelSampler, PixelSampling};
@@ -105,23 +102,15 @@ pub enum LightStrategy {
 }
 
 /// The light-transport estimator.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Integrator {
     /// Unidirectional path tracing with next-event estimation and MIS ([`path`]).
     Path,
     /// Direct light only (punctual, area and environment lights by light sampling) plus
-    /// mirror chains: glint's first integrator, exact for delta lights.
+    /// specular chains (delta lobes: smooth metal, glass, coat), with the path tracer's BSDF;
+    /// exact for up to four delta lights.
     #[default]
     Direct,
-}
-
-impl std::fmt::Display for Integrator {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Integrator::Path => "path",
-            Integrator::Direct => "direct",
-        })
-    }
 }
 
 impl Default for RenderSettings {
@@ -421,4 +410,33 @@ pub fn thread_pool(threads: usize, backend: BackendKind) -> Result<rayon::Thread
         threads,
         reason: e.to_string(),
     })
+}
+
+impl Integrator {
+    /// Every integrator, in the order the command line lists them.
+    pub const ALL: [Integrator; 2] = [Integrator::Path, Integrator::Direct];
+
+    /// Name on the command line and in job files: `path`, `direct`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Path => "path",
+            Integrator::Direct => "direct",
+        }
+    }
+}
+
+impl std::fmt::Display for Integrator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Integrator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Integrator::ALL
+            .into_iter()
+            .find(|i| i.name() == s)
+            .ok_or_else(|| format!("unknown integrator '{s}' (expected path or direct)"))
+    }
 }

@@ -1,20 +1,29 @@
 //! The path tracer: the rendering equation `L_o = L_e + ∫ L_i f |cos θ| dω`, estimated by
 //! unidirectional paths with next-event estimation and multiple importance sampling.
 //!
-//! Like the direct integrator it runs one tile at a time as a wavefront: for each sample index
-//! the tile's camera rays are traced as one coherent batch, then every live path is extended
-//! by one vertex per round: its hit is shaded, its light samples become one occlusion batch,
-//! and its BSDF samples become the next (incoherent) batch of rays.
+//! It runs one tile at a time on the wavefront skeleton (`render::wavefront`): for each sample
+//! index the tile's camera rays are traced as one coherent batch, then every live path is
+//! extended by one vertex per round: its hit goes through the surface front end
+//! ([`crate::material::at_hit`](fn@crate::material::at_hit)), its light sample (one per vertex, from the one
+//! [`LightSampler`](crate::light::LightSampler)) joins one occlusion batch, and its BSDF
+//! sample becomes the next (incoherent) batch of rays.
+//!
+//! The direct integrator is this kernel with `Integrator::Direct`: the same BSDF, light
+//! sampling at every vertex, but the continuation follows specular (delta) lobes only, and
+//! light found by those continuations counts with weight 1 (no MIS: non-delta lobes are never
+//! BSDF-sampled). So direct light is exact in expectation and specular chains are followed up
+//! to `max_depth` reflections.
 //!
 //! At a vertex with throughput β, outgoing direction ωo and BSDF f:
 //! - **Emission** `β · Le · w`: `w = 1` for camera rays and after a delta lobe, otherwise the
 //!   power-heuristic weight of the BSDF sample against the light sampler's density for the
 //!   point it hit (area lights, the environment when the ray escapes).
-//! - **Light sampling** (next-event estimation), while the depth is below `max_depth`: every
-//!   punctual light (delta lights: weight 1, no MIS), one point on the emissive triangles
-//!   chosen by power (see [`crate::light::area`]) and one environment direction, each
-//!   `β · f(ωo, ωi) · |cos θi| · L · w / p_light`, with `w` the power heuristic of `p_light`
-//!   against the BSDF's density `p_bsdf(ωi)`.
+//! - **Light sampling** (next-event estimation), while the depth is below `max_depth` and the
+//!   BSDF has a lobe with a density: the few delta lights each, then one finite and one
+//!   infinite light chosen by the light sampler, one shadow ray per sample,
+//!   `β · f(ωo, ωi) · |cos θi| · L · w / p_light`, with `p_light` the selection probability
+//!   (times the solid-angle density for area and environment samples) and `w` the power
+//!   heuristic of `p_light` against the BSDF's density `p_bsdf(ωi)` (1 for delta lights).
 //! - **BSDF sampling**: `β ← β · f · |cos θi| / p_bsdf`. Delta lobes (mirrors) carry no
 //!   density; the ray they spawn counts the emitter it hits with weight 1.
 //! - **Russian roulette** from [`RR_START_DEPTH`] on: the path survives with probability
@@ -31,23 +40,23 @@
 
 use super::LightStrategy;
 use super::film::TileSums;
-use super::integrator::{
-    Footprint, Pass, Scratch, TileContext, camera_sample, record_first_hit, surface_colors,
-    texture_value, trace_batch, trace_shadows,
-};
+use super::medium::Medium;
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use super::tiles::Tile;
 use super::visibility::RayBatch;
+use super::wavefront::{
+    Pass, ShadowQueue, TileContext, camera_differential, camera_sample, record_first_hit,
+    trace_batch,
+};
 use crate::accel::{Hit, Ray};
-use crate::bsdf::{Bsdf, Frame};
-use crate::geometry::{SurfaceInteraction, shading_normal, spawn_ray, spawn_ray_to};
+use crate::bsdf::{Bsdf, BsdfFlags, Frame};
+use crate::geometry::{SurfaceInteraction, spawn_ray, spawn_ray_to};
 use crate::light::area::AreaSample;
-use crate::light::{Incident, PunctualLight, ShadowTarget};
-use crate::material::material_index;
-use crate::material::scattering::SurfaceBsdf;
-use crate::render::medium::Medium;
-use glam::Vec3;
+use crate::light::{LightSample, NoLightSample, ShadowTarget, Unlit};
+use crate::material::{HitQuery, SurfaceBsdf, at_hit, material_index};
+use crate::texture::TexturePoint;
+use glam::{Vec2, Vec3};
 
 /// Depth (bounces) from which Russian roulette may end a path.
 pub const RR_START_DEPTH: u32 = 3;
@@ -83,10 +92,11 @@ pub(crate) struct PathScratch {
     hits: Vec<Option<Hit>>,
     next_rays: Vec<Ray>,
     next_paths: Vec<PathState>,
-    shadow_rays: Vec<Ray>,
-    shadow_values: Vec<(u32, Vec3)>,
-    occluded: Vec<bool>,
+    shadows: ShadowQueue,
     weights: Vec<f32>,
+    /// Film positions of the camera rays, index-aligned with the first round's `rays` (for
+    /// their differentials; only when the render carries them).
+    film: Vec<Vec2>,
 }
 
 /// The power heuristic (β = 2) weight of a sample drawn with density `a` against another
@@ -100,34 +110,30 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }
 
-/// Renders one tile with the path tracer. The const switches remove per-hit work the scene
-/// does not need, as in the direct integrator.
-pub(crate) fn render_tile_path<
-    const TEXTURES: bool,
-    const VERTEX_COLORS: bool,
-    const SHADING_NORMALS: bool,
-    const NORMAL_MAPS: bool,
->(
+/// Renders one tile with the path tracer (or the direct integrator, see the module doc).
+pub(crate) fn render_tile(
     ctx: &TileContext<'_>,
     pass: Pass,
     tile: &Tile,
-    scratch: &mut Scratch,
+    s: &mut PathScratch,
 ) -> (TileSums, RayCounts) {
-    let s = &mut scratch.path;
     let mut sums = TileSums::new(tile.pixel_count(), ctx.aovs);
     let mut counts = RayCounts::default();
-    // Camera rays carry differentials for their first hit's texture footprint; bounce rays
-    // look textures up at the finest level.
-    let carry = TEXTURES && ctx.differentials;
+    // Camera rays carry differentials for their first hit's texture footprint (scenes with
+    // textures and a filter that reads footprints); bounce rays look textures up at the
+    // finest level.
+    let carry = ctx.differentials;
     for sample in pass.first_sample..pass.first_sample.saturating_add(pass.spp) {
         s.rays.clear();
         s.paths.clear();
         s.weights.clear();
-        scratch.diffs.clear();
+        s.film.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
-            let (ray, weight) =
-                camera_sample(ctx, x, y, sample, carry.then_some(&mut scratch.diffs));
+            let (ray, weight, film) = camera_sample(ctx, x, y, sample);
+            if carry {
+                s.film.push(film);
+            }
             s.rays.push(ray);
             s.weights.push(weight);
             s.paths.push(PathState {
@@ -152,16 +158,15 @@ pub(crate) fn render_tile_path<
             }
             s.next_rays.clear();
             s.next_paths.clear();
-            s.shadow_rays.clear();
-            s.shadow_values.clear();
+            s.shadows.clear();
             for i in 0..s.rays.len() {
                 let (ray, path) = (s.rays[i], s.paths[i]);
                 let Some(hit) = s.hits[i] else {
                     escaped(ctx, &ray, &path, primary, &mut sums);
                     continue;
                 };
-                let footprint_source = if carry && primary {
-                    scratch.diffs.get(i)
+                let film = if carry && primary {
+                    s.film.get(i).copied()
                 } else {
                     None
                 };
@@ -170,30 +175,22 @@ pub(crate) fn render_tile_path<
                     hit: &hit,
                     path,
                     depth,
-                    diff: footprint_source,
+                    film,
                 };
-                shade::<TEXTURES, VERTEX_COLORS, SHADING_NORMALS, NORMAL_MAPS>(
+                shade(
                     ctx,
                     &mut vertex,
                     &mut sums,
                     &mut Queues {
                         next_rays: &mut s.next_rays,
                         next_paths: &mut s.next_paths,
-                        shadow_rays: &mut s.shadow_rays,
-                        shadow_values: &mut s.shadow_values,
+                        shadows: &mut s.shadows,
                         counts: &mut counts,
                     },
                 );
             }
-            trace_shadows(
-                ctx,
-                &s.shadow_rays,
-                &s.shadow_values,
-                &mut s.occluded,
-                (coherence, batch),
-                &mut counts,
-                &mut sums,
-            );
+            s.shadows
+                .trace(ctx, (coherence, batch), &mut counts, &mut sums);
             std::mem::swap(&mut s.rays, &mut s.next_rays);
             std::mem::swap(&mut s.paths, &mut s.next_paths);
             depth += 1;
@@ -211,17 +208,25 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, primary: bool, su
     let Some(env) = ctx.environment else {
         return;
     };
-    if primary && !ctx.environment_visible {
+    if primary && !ctx.transport.environment_visible {
         return;
     }
     // An infinite segment inside an absorbing volume (an open mesh) transmits nothing.
     let beta = path.beta * path.medium.transmittance(f32::INFINITY);
     let dir = ray.dir.normalize_or_zero();
-    let le = env.radiance(dir);
+    // The environment's density only where MIS weighs the escape; one image lookup for both.
+    let weighs = !path.specular
+        && !ctx.transport.direct_only()
+        && ctx.transport.light_strategy == LightStrategy::Mis;
+    let (le, env_pdf) = if weighs {
+        env.radiance_and_pdf(dir)
+    } else {
+        (env.radiance(dir), 0.0)
+    };
     if le == Vec3::ZERO {
         return;
     }
-    let w = bsdf_hit_weight(ctx, path, || env.pdf(dir));
+    let w = bsdf_hit_weight(ctx, path, || ctx.lights.environment_pdf_of(env_pdf));
     sums.pending[path.pixel as usize] += beta * le * w;
 }
 
@@ -231,10 +236,10 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, primary: bool, su
 /// density `light_pdf()`, or 1/0 when only one strategy runs.
 #[inline]
 fn bsdf_hit_weight(ctx: &TileContext<'_>, path: &PathState, light_pdf: impl Fn() -> f32) -> f32 {
-    if path.specular || ctx.delta_only {
+    if path.specular || ctx.transport.direct_only() {
         return 1.0;
     }
-    match ctx.light_strategy {
+    match ctx.transport.light_strategy {
         LightStrategy::Mis => power_heuristic(path.pdf, light_pdf()),
         LightStrategy::LightOnly => 0.0,
         LightStrategy::BsdfOnly => 1.0,
@@ -245,7 +250,7 @@ fn bsdf_hit_weight(ctx: &TileContext<'_>, path: &PathState, light_pdf: impl Fn()
 /// density `bsdf_pdf`.
 #[inline]
 fn light_sample_weight(ctx: &TileContext<'_>, light_pdf: f32, bsdf_pdf: f32) -> f32 {
-    if ctx.delta_only || ctx.light_strategy == LightStrategy::LightOnly {
+    if ctx.transport.direct_only() || ctx.transport.light_strategy == LightStrategy::LightOnly {
         1.0
     } else {
         power_heuristic(light_pdf, bsdf_pdf)
@@ -258,136 +263,101 @@ struct Vertex<'r> {
     hit: &'r Hit,
     path: PathState,
     depth: u32,
-    diff: Option<&'r crate::texture::RayDifferential>,
+    /// A camera ray's film position (for its differential), when the render carries them.
+    film: Option<Vec2>,
 }
 
-/// Where a vertex puts its light samples and its continuation.
+/// Where a vertex puts its light sample and its continuation.
 struct Queues<'q> {
     next_rays: &'q mut Vec<Ray>,
     next_paths: &'q mut Vec<PathState>,
-    shadow_rays: &'q mut Vec<Ray>,
-    shadow_values: &'q mut Vec<(u32, Vec3)>,
+    shadows: &'q mut ShadowQueue,
     counts: &'q mut RayCounts,
 }
 
-/// Shades one path vertex: AOVs (camera rays), emission, light samples, the next ray.
+/// One path vertex, as pbrt-v4's `PathIntegrator::Li` reads: the surface front end, emission
+/// with MIS, a light sample unless every lobe is specular, the continuation.
 #[inline(always)]
-fn shade<
-    const TEXTURES: bool,
-    const VERTEX_COLORS: bool,
-    const SHADING_NORMALS: bool,
-    const NORMAL_MAPS: bool,
->(
-    ctx: &TileContext<'_>,
-    v: &mut Vertex<'_>,
-    sums: &mut TileSums,
-    q: &mut Queues<'_>,
-) {
-    let hit = v.hit;
+fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut Queues<'_>) {
+    let (hit, transport) = (v.hit, &ctx.transport);
     let Some(mesh) = ctx.scene.meshes.get(hit.geom_id as usize) else {
         return;
     };
-    let Some(mut si) = SurfaceInteraction::from_hit(mesh, hit, v.ray.dir) else {
-        return;
-    };
     let material = &ctx.materials[material_index(mesh.material, ctx.materials.len())];
-    if SHADING_NORMALS && let Some(normals) = &mesh.normals {
-        si.ns = shading_normal(&si, normals);
-    }
-    let transmits = material.layers.is_some_and(|l| l.transmits());
-    let lit = si.front_face || material.double_sided || transmits;
     if !v.path.medium.is_outside() {
         v.path.beta *= v.path.medium.transmittance(hit.t * v.ray.dir.length());
     }
-    let footprint = if TEXTURES {
-        v.diff.and_then(|rd| Footprint::at(mesh, &si, rd))
-    } else {
-        None
+    // The direct integrator lights every vertex up to and including `max_depth`; the path
+    // tracer's vertex at `max_depth` only adds what it emits.
+    let lights_vertex = v.depth < transport.max_depth || transport.direct_only();
+    let query = HitQuery {
+        mesh,
+        material,
+        hit,
+        dir: v.ray.dir,
+        // Built only for textured materials: most camera rays of a product shot miss the
+        // model or hit untextured parts, and a differential is two more camera rays.
+        differential: v
+            .film
+            .filter(|_| material.textured())
+            .map(|film| camera_differential(ctx, film)),
+        scatters: lights_vertex,
     };
-    // The interpolated normal, before the base's normal map: a clear coat's normal map
-    // perturbs this one.
-    let vertex_ns = si.ns;
-    let mapped_tangent = if NORMAL_MAPS {
-        super::normal_maps::apply(ctx, mesh, &mut si, footprint.as_ref(), material)
-    } else {
-        None
+    let Some(surface) = at_hit(&ctx.textures(), &query) else {
+        return;
     };
-    let (albedo, emission) =
-        surface_colors::<TEXTURES, VERTEX_COLORS>(ctx, mesh, &si, footprint.as_ref(), material);
+    let si = &surface.si;
     let path = &mut v.path;
     let pixel = path.pixel as usize;
     if v.depth == 0 {
-        record_first_hit(sums, pixel, path.filter_weight, lit, albedo, si.ns, hit.t);
+        record_first_hit(
+            sums,
+            pixel,
+            path.filter_weight,
+            surface.lit,
+            surface.albedo,
+            si.ns,
+            hit.t,
+        );
     }
-    if !lit {
+    if !surface.lit {
         return;
     }
-    if material.unlit {
+    if surface.unlit {
         // KHR_materials_unlit: ρ leaves the surface as radiance and nothing scatters. Light
         // sampling never picks unlit surfaces, so BSDF sampling finds them with weight 1.
-        sums.pending[pixel] += path.beta * albedo;
+        sums.pending[pixel] += path.beta * surface.albedo;
         return;
     }
-    if emission != Vec3::ZERO {
-        let w = bsdf_hit_weight(ctx, path, || match &ctx.area_lights {
-            Some(area) => area.pdf(
+    if surface.emission != Vec3::ZERO {
+        let w = bsdf_hit_weight(ctx, path, || {
+            ctx.lights.area_pdf(
                 path.origin,
                 path.origin_normal,
                 (hit.geom_id, hit.instance, hit.prim_id),
                 si.p,
-            ),
-            None => 0.0,
+            )
         });
-        sums.pending[pixel] += path.beta * emission * w;
+        sums.pending[pixel] += path.beta * surface.emission * w;
     }
-    if v.depth >= ctx.max_depth && !ctx.delta_only {
+    let Some(bsdf) = surface.bsdf.as_ref() else {
+        return;
+    };
+    let frame = &surface.frame;
+    let wo = frame.to_local(si.wo);
+    if bsdf.flags().has_density() {
+        sample_light(ctx, si, frame, wo, bsdf, path, q);
+    }
+
+    // The continuation: the path tracer samples the whole BSDF, the direct integrator follows
+    // delta lobes only, up to max_depth reflections.
+    if v.depth >= transport.max_depth {
         return;
     }
-
-    // The direct integrator's mapping reads the factors only.
-    let metallic_roughness = if TEXTURES && !ctx.delta_only {
-        super::normal_maps::metallic_roughness(ctx, mesh, &si, footprint.as_ref(), material)
-    } else {
-        (material.metallic, material.roughness)
-    };
-    let frame = match mapped_tangent {
-        Some(t) => Frame::from_normal_tangent(si.ns, t),
-        None => Frame::from_normal(si.ns),
-    };
-    let layers = match &material.layers {
-        Some(l) if TEXTURES && l.has_textures() => {
-            let mut l = super::layer_textures::at_hit(ctx, mesh, &si, footprint.as_ref(), l);
-            if NORMAL_MAPS {
-                l.coat_normal = super::layer_textures::coat_normal(
-                    ctx,
-                    mesh,
-                    &si,
-                    vertex_ns,
-                    footprint.as_ref(),
-                    material,
-                    &frame,
-                );
-            }
-            Some(l)
-        }
-        other => *other,
-    };
-    let bsdf = SurfaceBsdf::for_hit_with_layers(
-        albedo,
-        metallic_roughness,
-        material,
-        layers.as_ref(),
-        ctx.delta_only,
-        si.front_face,
-    );
-    let wo = frame.to_local(si.wo);
-    if !bsdf.is_delta() {
-        sample_lights::<TEXTURES>(ctx, &si, &frame, wo, &bsdf, path, q);
-    }
-
-    // The continuation. The direct integrator follows delta lobes only, up to max_depth
-    // reflections as before; the path tracer samples the whole BSDF.
-    if v.depth >= ctx.max_depth {
+    // The direct integrator continues through delta lobes only: a BSDF without one ends the
+    // path here (its sample would be drawn only to be discarded; nothing is drawn after it,
+    // so skipping it changes no image).
+    if transport.direct_only() && !bsdf.flags().contains(BsdfFlags::SPECULAR) {
         return;
     }
     let u_lobe = path.stream.next_1d();
@@ -395,7 +365,7 @@ fn shade<
     let Some(bs) = bsdf.sample(wo, u_lobe, u) else {
         return;
     };
-    if ctx.delta_only && !bs.delta {
+    if transport.direct_only() && !bs.delta {
         return;
     }
     let wi = frame.to_world(bs.wi);
@@ -410,7 +380,7 @@ fn shade<
         path.medium
     };
     let mut beta = path.beta * bs.weight;
-    if ctx.russian_roulette && v.depth + 1 >= RR_START_DEPTH && !ctx.delta_only {
+    if transport.russian_roulette && v.depth + 1 >= RR_START_DEPTH && !transport.direct_only() {
         let fw = path.filter_weight.abs().max(f32::MIN_POSITIVE);
         let survive = (beta.abs().max_element() / fw).min(1.0);
         if survive <= 0.0 || path.stream.next_1d() >= survive {
@@ -434,10 +404,11 @@ fn shade<
     });
 }
 
-/// Next-event estimation at a vertex: every punctual light, one area-light point, one
-/// environment direction; each becomes one shadow ray carrying its contribution.
+/// Next-event estimation at a vertex: each split delta light, then one sample of each kind of
+/// light (finite, infinite) from the light sampler; each sample is one shadow ray carrying its
+/// contribution.
 #[inline(always)]
-fn sample_lights<const TEXTURES: bool>(
+fn sample_light(
     ctx: &TileContext<'_>,
     si: &SurfaceInteraction,
     frame: &Frame,
@@ -446,71 +417,127 @@ fn sample_lights<const TEXTURES: bool>(
     path: &mut PathState,
     q: &mut Queues<'_>,
 ) {
-    let pixel = path.pixel;
-    for light in &ctx.lights.general {
-        let Ok(Incident {
-            wi,
-            irradiance,
-            target,
-        }) = light.incident(si.p)
-        else {
-            q.counts.skipped_outside_cone += 1;
-            continue;
-        };
-        if !reachable(si, wi, bsdf) {
-            q.counts.skipped_facing_away += 1;
-            continue;
-        }
-        let wl = frame.to_local(wi);
-        let value = path.beta * bsdf.eval(wo, wl) * irradiance * wl.z.abs();
-        if value == Vec3::ZERO {
-            continue;
-        }
-        q.shadow_rays.push(match target {
-            ShadowTarget::Point(position) => spawn_ray_to(si.p, si.p_error, si.ng, position),
-            ShadowTarget::Infinity => spawn_ray(si.p, si.p_error, si.ng, wi),
-        });
-        q.shadow_values.push((pixel, value));
+    let lights = &ctx.lights;
+    let at = Shading {
+        si,
+        frame,
+        wo,
+        bsdf,
+        transmits: bsdf.flags().transmits(),
+        beta: path.beta,
+        pixel: path.pixel,
+    };
+    for sample in lights.delta(si.p) {
+        at.add(ctx, sample, q);
     }
+    for kind in lights.kinds().into_iter().flatten() {
+        let u_choice = if kind.needs_choice {
+            path.stream.next_1d()
+        } else {
+            0.0
+        };
+        let u = if kind.needs_position {
+            path.stream.next_2d()
+        } else {
+            Vec2::ZERO
+        };
+        at.add(ctx, lights.sample(kind, si.p, si.ns, u_choice, u), q);
+    }
+}
 
-    let sample_surfaces = ctx.delta_only || ctx.light_strategy != LightStrategy::BsdfOnly;
-    if let Some(area) = ctx.area_lights.as_ref().filter(|_| sample_surfaces) {
-        let u_select = path.stream.next_1d();
-        let u = path.stream.next_2d();
-        if let Some(ls) = area.sample(si.p, si.ns, u_select, u)
-            && ls.pdf > 0.0
-            && reachable(si, ls.wi, bsdf)
-        {
-            let le = emitted_at::<TEXTURES>(ctx, &ls);
-            let wl = frame.to_local(ls.wi);
-            let f = bsdf.eval(wo, wl);
-            if le != Vec3::ZERO && f != Vec3::ZERO {
+/// A vertex's shading point and BSDF, as light samples are evaluated against them.
+struct Shading<'s> {
+    si: &'s SurfaceInteraction,
+    frame: &'s Frame,
+    wo: Vec3,
+    bsdf: &'s SurfaceBsdf,
+    transmits: bool,
+    beta: Vec3,
+    pixel: u32,
+}
+
+impl Shading<'_> {
+    /// Queues the shadow ray of one light sample with its contribution
+    /// `β · f · |cos θi| · L · w / p` (or counts why there is none).
+    #[inline(always)]
+    fn add(
+        &self,
+        ctx: &TileContext<'_>,
+        sample: Result<LightSample, NoLightSample>,
+        q: &mut Queues<'_>,
+    ) {
+        let (si, bsdf, wo) = (self.si, self.bsdf, self.wo);
+        let sample = match sample {
+            Ok(sample) => sample,
+            Err(NoLightSample::Unlit(Unlit::OutsideCone)) => {
+                q.counts.skipped_outside_cone += 1;
+                return;
+            }
+            Err(NoLightSample::Unlit(Unlit::BeyondRange)) => {
+                q.counts.skipped_beyond_range += 1;
+                return;
+            }
+            Err(NoLightSample::Unlit(Unlit::AtLight)) => {
+                q.counts.skipped_facing_away += 1;
+                return;
+            }
+            Err(NoLightSample::None) => return,
+        };
+        match sample {
+            LightSample::Delta {
+                wi,
+                irradiance,
+                target,
+                probability,
+            } => {
+                if !reachable(si, wi, self.transmits) {
+                    q.counts.skipped_facing_away += 1;
+                    return;
+                }
+                let wl = self.frame.to_local(wi);
+                let value = self.beta * bsdf.eval(wo, wl) * irradiance * (wl.z.abs() / probability);
+                if value == Vec3::ZERO || !value.is_finite() {
+                    return;
+                }
+                let ray = match target {
+                    ShadowTarget::Point(position) => {
+                        spawn_ray_to(si.p, si.p_error, si.ng, position)
+                    }
+                    ShadowTarget::Infinity => spawn_ray(si.p, si.p_error, si.ng, wi),
+                };
+                q.shadows.push(ray, self.pixel, value);
+            }
+            LightSample::Area(ls) => {
+                if !reachable(si, ls.wi, self.transmits) {
+                    return;
+                }
+                let le = emitted_at(ctx, &ls);
+                let wl = self.frame.to_local(ls.wi);
+                let f = bsdf.eval(wo, wl);
+                if le == Vec3::ZERO || f == Vec3::ZERO {
+                    return;
+                }
                 let w = light_sample_weight(ctx, ls.pdf, bsdf.pdf(wo, wl));
-                let value = path.beta * f * le * (wl.z.abs() * w / ls.pdf);
+                let value = self.beta * f * le * (wl.z.abs() * w / ls.pdf);
                 if value.is_finite() {
-                    q.shadow_rays
-                        .push(spawn_ray_to(si.p, si.p_error, si.ng, ls.point));
-                    q.shadow_values.push((pixel, value));
+                    let ray = spawn_ray_to(si.p, si.p_error, si.ng, ls.point);
+                    q.shadows.push(ray, self.pixel, value);
                 }
             }
-        }
-    }
-
-    if let Some(env) = ctx.environment.filter(|_| sample_surfaces) {
-        let u = path.stream.next_2d();
-        if let Some(es) = env.sample(u)
-            && es.pdf > 0.0
-            && reachable(si, es.wi, bsdf)
-        {
-            let wl = frame.to_local(es.wi);
-            let f = bsdf.eval(wo, wl);
-            if f != Vec3::ZERO && es.radiance != Vec3::ZERO {
+            LightSample::Environment(es) => {
+                if !reachable(si, es.wi, self.transmits) {
+                    return;
+                }
+                let wl = self.frame.to_local(es.wi);
+                let f = bsdf.eval(wo, wl);
+                if f == Vec3::ZERO || es.radiance == Vec3::ZERO {
+                    return;
+                }
                 let w = light_sample_weight(ctx, es.pdf, bsdf.pdf(wo, wl));
-                let value = path.beta * f * es.radiance * (wl.z.abs() * w / es.pdf);
+                let value = self.beta * f * es.radiance * (wl.z.abs() * w / es.pdf);
                 if value.is_finite() {
-                    q.shadow_rays
-                        .push(spawn_ray(si.p, si.p_error, si.ng, es.wi));
-                    q.shadow_values.push((pixel, value));
+                    let ray = spawn_ray(si.p, si.p_error, si.ng, es.wi);
+                    q.shadows.push(ray, self.pixel, value);
                 }
             }
         }
@@ -521,15 +548,15 @@ fn sample_lights<const TEXTURES: bool>(
 /// both the geometric and the shading horizon, or, for a transmitting BSDF, below both
 /// (shading normals never let light through the surface on their own).
 #[inline(always)]
-fn reachable(si: &SurfaceInteraction, wi: Vec3, bsdf: &SurfaceBsdf) -> bool {
+fn reachable(si: &SurfaceInteraction, wi: Vec3, transmits: bool) -> bool {
     let (g, s) = (si.ng.dot(wi), si.ns.dot(wi));
-    (g > 0.0 && s > 0.0) || (g < 0.0 && s < 0.0 && bsdf.transmits())
+    (g > 0.0 && s > 0.0) || (g < 0.0 && s < 0.0 && transmits)
 }
 
 /// The radiance the sampled emitter point `ls` sends toward `-ls.wi` (back to the
 /// shading point): its material's emission, textured, on a lit side only.
 #[inline]
-fn emitted_at<const TEXTURES: bool>(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
+fn emitted_at(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
     let Some(mesh) = ctx.scene.meshes.get(ls.mesh as usize) else {
         return Vec3::ZERO;
     };
@@ -556,8 +583,13 @@ fn emitted_at<const TEXTURES: bool>(ctx: &TileContext<'_>, ls: &AreaSample) -> V
         vertices,
         placement: None,
     };
-    if TEXTURES && let Some(t) = &material.emissive_texture {
-        emission *= texture_value(ctx, mesh, &si, None, t).truncate();
+    if let Some(t) = &material.emissive_texture {
+        let at = TexturePoint {
+            mesh,
+            si: &si,
+            footprint: None,
+        };
+        emission *= ctx.textures().value(&at, t).truncate();
     }
     // An emitter with alpha is hit by BSDF-sampled rays only where (MASK) or as often as
     // (BLEND) its coverage says; its light samples carry the same expectation.

@@ -36,6 +36,8 @@ pub enum PixelSampling {
 
 /// Sobol dimensions of the pixel position (x, y). Later uses (lens, light) take the next ones.
 pub const DIM_PIXEL: u32 = 0;
+// The pixel position is read as the first pair of a 4D set (`sample_4d`).
+const _: () = assert!(DIM_PIXEL.is_multiple_of(4));
 
 /// Sobol points per scramble seed: `sobol_burley` indexes at most 2¹⁶ samples, so longer
 /// renders move to a fresh, independently scrambled sequence every 2¹⁶ samples.
@@ -142,10 +144,9 @@ impl PixelSampler {
                 let block = sample / SOBOL_BLOCK;
                 let scramble = pixel_scramble(self.seed, x, y, block);
                 let index = sample % SOBOL_BLOCK;
-                Vec2::new(
-                    sobol_burley::sample(index, DIM_PIXEL, scramble),
-                    sobol_burley::sample(index, DIM_PIXEL + 1, scramble),
-                )
+                // DIM_PIXEL is 0: the first two dimensions of the first 4D set.
+                let [x, y, _, _] = sobol_burley::sample_4d(index, DIM_PIXEL / 4, scramble);
+                Vec2::new(x, y)
             }
         }
     }
@@ -200,20 +201,30 @@ impl SampleStream {
         let h = mix64(self.key ^ (slot as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
         if self.sobol {
             let seed = (h ^ (h >> 32)) as u32;
-            Vec2::new(
-                sobol_burley::sample(self.index, 0, seed),
-                sobol_burley::sample(self.index, 1, seed),
-            )
+            // Dimensions 0 and 1 of the slot's sequence, computed together (the crate's
+            // `sample_4d` is bit-identical to `sample` per dimension, one SIMD pass).
+            let [x, y, _, _] = sobol_burley::sample_4d(self.index, 0, seed);
+            Vec2::new(x, y)
         } else {
             let mut rng = Pcg32::seed_from_u64(h);
             Vec2::new(rng.random::<f32>(), rng.random::<f32>())
         }
     }
 
-    /// The next number in `[0, 1)` (a slot of its own).
+    /// The next number in `[0, 1)` (a slot of its own: the first of [`next_2d`]'s pair,
+    /// computed alone).
+    ///
+    /// [`next_2d`]: Self::next_2d
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        self.next_2d().x
+        let slot = self.slot;
+        self.slot = self.slot.wrapping_add(1);
+        let h = mix64(self.key ^ (slot as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+        if self.sobol {
+            sobol_burley::sample(self.index, 0, (h ^ (h >> 32)) as u32)
+        } else {
+            Pcg32::seed_from_u64(h).random::<f32>()
+        }
     }
 }
 

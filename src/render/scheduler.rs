@@ -7,16 +7,17 @@
 use super::film::{Film, TileSums};
 use super::filter::FilterSampler;
 use super::ids;
-use super::integrator::{Pass, Scratch, TileContext};
-use super::kernel::{self, KernelFlags, TileFn};
+use super::kernel::KernelFlags;
+use super::path::PathScratch;
 use super::stats::{RayCounts, RenderStats};
 use super::tiles::{self, Tile};
+use super::wavefront::{Pass, TileContext, Transport};
 use super::{
     CameraRays, PixelSampler, Progress, RenderError, RenderInputs, RenderOutput, RenderSettings,
     thread_pool, validate,
 };
 use crate::accel::Accel;
-use crate::light::LightSet;
+use crate::light::{LightSampler, LightSet};
 use crate::material::ShadingMaterial;
 use crate::scene::{Camera, Scene, SceneFeatures};
 use crate::texture::MipMap;
@@ -28,7 +29,6 @@ use std::time::{Duration, Instant};
 /// Renders passes of samples tile by tile on a thread pool and accumulates them in one film.
 pub struct TileScheduler<'a> {
     ctx: TileContext<'a>,
-    render_tile: TileFn,
     pool: Pool<'a>,
     tiles: Vec<Tile>,
     /// Samples per pixel rendered so far: the next pass starts at this index.
@@ -118,13 +118,6 @@ impl<'a> TileScheduler<'a> {
             )?)),
         }
         .filter(|lights| !lights.is_empty());
-        // The path kernel runs for the path tracer, and for the direct integrator when the
-        // render has lights the classic kernel cannot sample (environment, emitters) or
-        // materials it cannot shade (KHR_materials layers).
-        let path_kernel = settings.integrator == super::Integrator::Path
-            || environment.is_some()
-            || area_lights.is_some()
-            || features.layered_materials;
         let visibility = super::visibility::Visibility::new(
             scene,
             flags.alpha,
@@ -132,13 +125,16 @@ impl<'a> TileScheduler<'a> {
             settings.seed,
         );
         let flags = KernelFlags {
-            path: path_kernel,
             area_lights: area_lights.is_some(),
             environment: environment.is_some(),
             alpha: visibility.as_ref().is_some_and(|v| v.tests_alpha()),
             cull_back_faces: visibility.as_ref().is_some_and(|v| v.culls()),
             ..flags
         };
+        // BSDF sampling alone (a test of the estimators) leaves emitters and the environment
+        // to the rays that hit them; the direct integrator always light-samples them.
+        let samples_surfaces = settings.integrator == super::Integrator::Direct
+            || settings.light_strategy != super::LightStrategy::BsdfOnly;
         let ctx = TileContext {
             scene,
             accel,
@@ -146,21 +142,25 @@ impl<'a> TileScheduler<'a> {
             sampler: PixelSampler::new(settings.sampling, settings.spp, settings.seed),
             filter: FilterSampler::new(settings.filter),
             materials: ShadingMaterial::table(scene),
-            lights: LightSet::new(lights, settings.light_units)?,
-            typed_lights: flags.typed_lights,
-            max_depth: settings.max_depth,
+            lights: LightSampler::new(
+                &LightSet::new(lights, settings.light_units)?,
+                area_lights.filter(|_| samples_surfaces),
+                environment.filter(|_| samples_surfaces),
+            ),
             aovs: settings.aovs,
             mipmaps,
             texture_filter: settings.texture_filter,
             differentials: features.textures && settings.texture_filter.uses_footprint(),
             differential_spacing: 1.0 / (settings.spp as f32).sqrt(),
             environment,
-            environment_visible: settings.environment_visible,
-            area_lights,
-            delta_only: settings.integrator == super::Integrator::Direct,
-            light_strategy: settings.light_strategy,
-            russian_roulette: settings.russian_roulette,
             visibility,
+            transport: Transport {
+                integrator: settings.integrator,
+                max_depth: settings.max_depth,
+                light_strategy: settings.light_strategy,
+                russian_roulette: settings.russian_roulette,
+                environment_visible: settings.environment_visible,
+            },
         };
         let pool = match pool {
             Some(shared) => Pool::Shared(shared),
@@ -168,11 +168,6 @@ impl<'a> TileScheduler<'a> {
         };
         Ok(Self {
             ctx,
-            render_tile: if path_kernel {
-                kernel::select_path(&flags)
-            } else {
-                kernel::select(&flags)
-            },
             pool,
             tiles: tiles::tiles(settings.width, settings.height, tiles::TILE_SIZE),
             next_sample: 0,
@@ -224,19 +219,19 @@ impl<'a> TileScheduler<'a> {
         if self.cancelled() {
             return;
         }
-        let (ctx, render_tile, tiles) = (&self.ctx, self.render_tile, &self.tiles);
+        let (ctx, tiles) = (&self.ctx, &self.tiles);
         let (cancel, trace_ids) = (self.cancel, self.ids_pending);
         let done = AtomicUsize::new(0);
         let start = Instant::now();
         let results: Vec<_> = self.pool.get().install(|| {
             tiles
                 .par_iter()
-                .map_init(Scratch::default, |scratch, tile| {
+                .map_init(PathScratch::default, |scratch, tile| {
                     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                         // The render is abandoned: its film is never returned.
                         return (TileSums::default(), RayCounts::default());
                     }
-                    let mut result = render_tile(ctx, pass, tile, scratch);
+                    let mut result = super::path::render_tile(ctx, pass, tile, scratch);
                     if trace_ids {
                         let (sums, counts) = &mut result;
                         ids::trace_centre_ids(ctx, ctx.aovs, tile, sums, counts);

@@ -59,10 +59,10 @@
 //! BLEND, 0 or 1 for MASK) scales a sampled point's radiance, the expected value of what a
 //! BSDF-sampled ray that hits it finds.
 
-use super::integrator::{TileContext, texture_value};
 use super::sampler::mix64;
 use super::stats::RayCounts;
 use super::tiles::Tile;
+use super::wavefront::TileContext;
 use crate::accel::{Hit, Ray};
 use crate::geometry::SurfaceInteraction;
 use crate::scene::{AlphaMode, Material, Mesh, Scene, TextureRef};
@@ -444,7 +444,12 @@ fn alpha_at(
         alpha *= si.interpolate(colors).map_or(1.0, |c| c.w);
     }
     if let Some(t) = &rule.texture {
-        alpha *= texture_value(ctx, mesh, si, None, t).w;
+        let at = crate::texture::TexturePoint {
+            mesh,
+            si,
+            footprint: None,
+        };
+        alpha *= ctx.textures().value(&at, t).w;
     }
     alpha
 }

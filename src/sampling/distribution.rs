@@ -35,6 +35,10 @@ pub struct Distribution1D {
     cdf: Vec<f32>,
     /// `Σ_i f_i`.
     sum: f32,
+    /// A guide table (Chen and Asau's cutpoints): `guide[k]` is the number of `cdf[1..]`
+    /// entries at or below `k / n`, so a search for `u` only looks between the cutpoints
+    /// around it instead of over every bin.
+    guide: Vec<u32>,
 }
 
 impl Distribution1D {
@@ -58,10 +62,29 @@ impl Distribution1D {
             // bin end exactly at 1.0, so zero bins at the end keep zero width.
             cdf.push((acc / total) as f32);
         }
+        // Bins beyond u32 indices are not sampled anywhere (images and light lists are far
+        // smaller); the guide then stays empty and `find` searches the whole table.
+        let n = func.len();
+        let guide = if u32::try_from(n).is_ok() {
+            let mut guide = Vec::with_capacity(n);
+            let mut i = 0usize;
+            for k in 0..n {
+                let v = k as f32 / n as f32;
+                while i < n && cdf[i + 1] <= v {
+                    i += 1;
+                }
+                // Fits: i ≤ n, checked above.
+                guide.push(i as u32);
+            }
+            guide
+        } else {
+            Vec::new()
+        };
         Some(Self {
             func,
             cdf,
             sum: total as f32,
+            guide,
         })
     }
 
@@ -94,9 +117,25 @@ impl Distribution1D {
     #[inline]
     fn find(&self, u: f32) -> usize {
         // Number of cdf[1..] entries <= u; a bin of zero width is skipped because its end
-        // equals its start.
-        let i = self.cdf[1..].partition_point(|&c| c <= u);
-        i.min(self.func.len() - 1)
+        // equals its start. The guide narrows the search to the entries between the cutpoints
+        // (k − 1)/n ≤ u and (k + 2)/n ≥ u (a bucket of margin on each side absorbs the
+        // rounding of k = ⌊u·n⌋); the count is the same as over the whole table.
+        let n = self.func.len();
+        let g = self.guide.len();
+        let (lo, hi) = if g == n && (0.0..1.0).contains(&u) {
+            let k = (u * n as f32) as usize;
+            let lo = self.guide[k.saturating_sub(1).min(g - 1)] as usize;
+            let hi = if k + 2 < g {
+                self.guide[k + 2] as usize
+            } else {
+                n
+            };
+            (lo, hi.max(lo))
+        } else {
+            (0, n)
+        };
+        let i = lo + self.cdf[1 + lo..1 + hi].partition_point(|&c| c <= u);
+        i.min(n - 1)
     }
 
     /// Samples `x ∈ [0, 1)` with density [`pdf`](Self::pdf): returns `(x, p(x), bin index)`.
@@ -229,6 +268,36 @@ impl Distribution2D {
 
 #[cfg(test)]
 mod tests {
+
+    /// The guided search finds the bin a search over the whole table finds, for peaked
+    /// distributions, zero-weight runs and every kind of `u` (bucket edges included).
+    #[test]
+    fn guided_search_finds_what_a_full_search_finds() {
+        let mut weights = vec![1e-6f32; 1000];
+        weights[10] = 5000.0;
+        weights[500..600].iter_mut().for_each(|w| *w = 0.0);
+        weights[999] = 0.0;
+        weights[700] = 300.0;
+        for w in [weights, vec![1.0; 7], vec![0.0, 0.0, 3.0, 0.0, 1.0, 0.0]] {
+            let d = Distribution1D::new(&w).unwrap();
+            let n = d.len();
+            let full = |u: f32| d.cdf[1..].partition_point(|&c| c <= u).min(n - 1);
+            let mut us: Vec<f32> = (0..20_000).map(|i| i as f32 / 20_000.0).collect();
+            us.extend(d.cdf.iter().flat_map(|&c| {
+                [
+                    c,
+                    f32::from_bits(c.to_bits().saturating_sub(1)),
+                    f32::from_bits(c.to_bits() + 1),
+                ]
+            }));
+            us.extend((0..=n).map(|k| k as f32 / n as f32));
+            us.push(ONE_MINUS_EPSILON);
+            for u in us.into_iter().filter(|u| (0.0..1.0).contains(u)) {
+                assert_eq!(d.find(u), full(u), "u = {u}");
+            }
+        }
+    }
+
     use super::*;
     use rand::{Rng, SeedableRng};
     use rand_pcg::Pcg64;

@@ -366,46 +366,6 @@ pub fn lights_for(scene: &Scene, extra: Vec<Light>, camera: &Camera) -> Complete
 /// under it (unoccluded) has radiance 1, the same as the environment behind it.
 pub const DEFAULT_ENVIRONMENT_RADIANCE: f32 = 1.0;
 
-/// The environment to render `scene` with: `given` if there is one; else, for the path
-/// tracer, when the scene and `extra` have no punctual light, the default environment (a
-/// uniform white of [`DEFAULT_ENVIRONMENT_RADIANCE`]) instead of the default sun, announced;
-/// else none. Emissive surfaces do not count as lights here: a scene lit only by them (a
-/// Cornell box) renders them under the default environment unless the job gives a black one
-/// (`--background 0,0,0`). The direct integrator keeps the default sun, so its images of a
-/// scene without lights are what they were.
-pub fn environment_for(
-    scene: &Scene,
-    extra: &[Light],
-    given: Option<std::sync::Arc<crate::light::environment::EnvironmentLight>>,
-    integrator: crate::render::Integrator,
-) -> Completed<Option<std::sync::Arc<crate::light::environment::EnvironmentLight>>> {
-    if given.is_some() {
-        return Completed {
-            value: given,
-            added: None,
-        };
-    }
-    if integrator == crate::render::Integrator::Path && scene.lights.is_empty() && extra.is_empty()
-    {
-        return Completed {
-            value: Some(std::sync::Arc::new(
-                crate::light::environment::EnvironmentLight::constant(Vec3::splat(
-                    DEFAULT_ENVIRONMENT_RADIANCE,
-                )),
-            )),
-            added: Some(format!(
-                "the scene has no lights: rendering it under the default environment (uniform \
-                 white, radiance {DEFAULT_ENVIRONMENT_RADIANCE} W/(m²·sr)); give --env, \
-                 --background or --light to light it otherwise"
-            )),
-        };
-    }
-    Completed {
-        value: None,
-        added: None,
-    }
-}
-
 /// Completes `scene` in place for renders that take its first camera and its lights: adds the
 /// default camera if it has none and the default lights if it has none. Returns the
 /// announcements of what was added.

@@ -11,6 +11,8 @@ pub mod gltf;
 pub mod ktx2_decode;
 pub mod layers;
 pub mod light_spec;
+pub mod procedural_texture;
+mod source;
 pub mod tangents;
 pub mod texels;
 pub mod texture_decode;
@@ -19,6 +21,8 @@ use glam::{Affine2, Mat4, Vec2, Vec3, Vec4};
 
 pub use crate::accel::Placement;
 pub use features::SceneFeatures;
+pub use procedural_texture::ProceduralTexture;
+pub use source::SceneSource;
 
 /// A scene ready to render.
 #[derive(Clone, Debug, Default)]
@@ -152,7 +156,7 @@ pub struct Material {
     pub double_sided: bool,
     /// A procedural base colour (from the material's glTF `extras`), multiplied into ρ like
     /// a base colour texture.
-    pub procedural: Option<crate::texture::ProceduralTexture>,
+    pub procedural: Option<ProceduralTexture>,
     /// KHR_materials_ior: the dielectric's index of refraction (1.5 without the extension).
     pub ior: f32,
     /// KHR_materials_specular `specularFactor` (1 without it): scales the dielectric

@@ -29,7 +29,7 @@ use glam::{Vec2, Vec4};
 pub const MAX_ANISOTROPY: f32 = 16.0;
 
 /// How textures are filtered; `--texture-filter`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TextureFilter {
     /// Nearest texel of the base level (no MIP maps; the glTF sampler is ignored).
     Nearest,
@@ -341,6 +341,38 @@ fn anisotropic(mip: &MipMap, uv: Vec2, footprint: &UvFootprint) -> Vec4 {
         },
         lod,
     )
+}
+
+impl TextureFilter {
+    /// Every filter, in the order the command line lists them.
+    pub const ALL: [TextureFilter; 5] = [
+        Self::Nearest,
+        Self::Bilinear,
+        Self::Bicubic,
+        Self::Trilinear,
+        Self::Anisotropic,
+    ];
+}
+
+impl std::fmt::Display for TextureFilter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for TextureFilter {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown texture filter '{s}' (expected nearest, bilinear, bicubic, trilinear \
+                 or anisotropic)"
+                )
+            })
+    }
 }
 
 #[cfg(test)]

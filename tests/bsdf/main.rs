@@ -87,6 +87,9 @@ impl Bsdf for WrongPdf {
         s.weight = self.eval(wo, s.wi) * s.wi.z / s.pdf;
         Some(s)
     }
+    fn flags(&self) -> glint::bsdf::BsdfFlags {
+        glint::bsdf::BsdfFlags::REFLECTION | glint::bsdf::BsdfFlags::DIFFUSE
+    }
 }
 
 #[test]

@@ -6,25 +6,29 @@ use glint::accel::{BackendKind, BuildOptions, Ray};
 use glint::render::{self, CameraRays, PixelSampling, RenderOutput, RenderSettings};
 use glint::scene::{Camera, Light, Material, Mesh, Projection, Scene};
 
-/// A Lambertian material with reflectance `rho`.
+/// A Lambertian material with reflectance `rho`: a glTF dielectric without specular
+/// reflection (KHR_materials_specular's factor 0), whose BRDF is exactly `ρ/π`.
 pub fn lambert(rho: Vec3, double_sided: bool) -> Material {
     Material {
         name: "lambert".into(),
         base_color: rho.extend(1.0),
         metallic: 0.0,
         roughness: 1.0,
+        specular: 0.0,
         double_sided,
         ..Material::default()
     }
 }
 
-/// A mirror-like metal: `metallic` of ρ as a mirror, the rest diffuse.
+/// A smooth metal: `metallic` of the surface a mirror of reflectance Schlick(ρ, 1, cos θ)
+/// (ρ at normal incidence), the rest Lambertian (no dielectric specular).
 pub fn mirror(rho: Vec3, metallic: f32) -> Material {
     Material {
         name: "mirror".into(),
         base_color: rho.extend(1.0),
         metallic,
         roughness: 0.0,
+        specular: 0.0,
         double_sided: false,
         ..Material::default()
     }
@@ -36,6 +40,7 @@ pub fn emitter(le: Vec3) -> Material {
         name: "emitter".into(),
         base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
         metallic: 0.0,
+        specular: 0.0,
         emissive: le,
         double_sided: false,
         ..Material::default()

@@ -53,8 +53,7 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 use std::path::{Path, PathBuf};
 
-/// Rec. 709 luminance weights, for the sampling weights.
-const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+use crate::color::LUMINANCE;
 
 /// An environment that cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -424,6 +423,28 @@ impl EnvironmentLight {
         }
     }
 
+    /// [`radiance`](Self::radiance) and [`pdf`](Self::pdf) of the unit direction `d` at once,
+    /// mapping `d` to the image once (for an escaped ray weighed by MIS). The same values as
+    /// the two calls.
+    #[inline]
+    pub fn radiance_and_pdf(&self, d: Vec3) -> (Vec3, f32) {
+        match &self.kind {
+            Kind::Constant(_) => (self.radiance(d), self.pdf(d)),
+            Kind::Map(m) => {
+                let uv = self.direction_to_uv(d);
+                let radiance = m.lookup(uv);
+                let Some(dist) = &m.distribution else {
+                    return (radiance, 0.0);
+                };
+                let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
+                if sin_theta <= 0.0 {
+                    return (radiance, 0.0);
+                }
+                (radiance, dist.pdf(uv) / (2.0 * PI * PI * sin_theta))
+            }
+        }
+    }
+
     /// The radiance averaged over the sphere, `(1/4π) ∮ L dω` (for a map, each texel weighted
     /// by its solid angle): a measure of the environment's power for choosing between it and
     /// other lights.
@@ -557,6 +578,27 @@ mod tests {
             height: h,
             texels,
         }
+    }
+
+    #[test]
+    fn radiance_and_pdf_at_once_are_the_two_calls() {
+        let env = EnvironmentLight::from_image(ramp(16, 8), &EnvOptions::default()).unwrap();
+        for k in 0..200 {
+            let d = Vec3::new(
+                (k as f32 * 0.7).sin(),
+                (k as f32 * 0.31).cos(),
+                (k as f32 * 1.3).sin(),
+            )
+            .normalize();
+            let (l, p) = env.radiance_and_pdf(d);
+            assert_eq!(
+                l.to_array().map(f32::to_bits),
+                env.radiance(d).to_array().map(f32::to_bits)
+            );
+            assert_eq!(p.to_bits(), env.pdf(d).to_bits());
+        }
+        let c = EnvironmentLight::constant(Vec3::ONE);
+        assert_eq!(c.radiance_and_pdf(Vec3::Y), (Vec3::ONE, c.pdf(Vec3::Y)));
     }
 
     #[test]

@@ -22,10 +22,8 @@ pub const GEOMETRY_BYTES_PER_VERTEX: u64 = 72;
 pub const GEOMETRY_BYTES_PER_INDEX: u64 = 4;
 
 /// Largest coordinate magnitude a scene may hold (positions, camera and light positions,
-/// orthographic extents): 2^40 ≈ 1.1e12. Beyond it an f32 has a spacing of 2^17 or more, so a
-/// ray starting there cannot resolve anything smaller than a 100-km step, and Embree rejects
-/// rays whose origin exceeds ~1.8e18 outright (an assertion that aborts the process).
-pub const MAX_COORDINATE: f32 = (1u64 << 40) as f32;
+/// orthographic extents): the ray queries' limit, [`crate::accel::MAX_COORDINATE`] (2^40).
+pub const MAX_COORDINATE: f32 = crate::accel::MAX_COORDINATE;
 
 /// Largest emitted quantity a material or light may carry (radiance in W/(sr·m²), intensity in
 /// W/sr, irradiance in W/m²): 1e20. Sums of a few billion samples of it stay finite in f32

@@ -18,7 +18,7 @@
 
 use super::LoadError;
 use super::source::Origin;
-use crate::texture::noise::{Domain, Octave, Pattern, ProceduralTexture};
+use crate::scene::procedural_texture::{Domain, Octave, Pattern, ProceduralTexture};
 use glam::Vec3;
 
 /// The `extras` key glint reads.

@@ -1,13 +1,15 @@
-//! The options of one render as `glint render` and the keys of batch job files spell them
-//! (one clap definition for both), and their translation into a [`Job`]
-//! ([`RenderArgs::to_job`]). Plain data; the command line in `cli/` only parses and prints.
+//! The options of one render as `glint render` spells them, and their translation into a
+//! library [`Job`] ([`RenderArgs::to_job`]). Batch job files are spelled with the same clap
+//! definition: [`super::job_options`] hands it to `glint batch` (which, below the command line,
+//! knows no clap) through [`crate::batch::jobs::OptionParser`].
 
 use crate::accel::BackendKind;
-use crate::light::LightUnits;
-use crate::render::job::{
-    CameraChoice, EnvironmentSource, LightSource, OutputSpec, Samples, SceneSource,
+use crate::job::{
+    CameraChoice, EnvironmentSource, Job, JobError, LightSource, OutputSpec, Samples, SceneSource,
 };
-use crate::render::{self, AovSelection, Job, JobError, RenderSettings};
+use crate::light::LightUnits;
+use crate::render::{self, AovSelection, Integrator, RenderSettings};
+use crate::texture::TextureFilter;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -50,7 +52,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub height: Option<u32>,
     /// Samples per pixel.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = Job::default().settings.spp)]
     pub spp: u32,
     /// Ray-query backend: embree or bvh.
     #[arg(long, default_value_t = BackendKind::default())]
@@ -73,7 +75,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Maximum number of mirror bounces.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = Job::default().settings.max_depth)]
     pub max_depth: u32,
     /// Exposure in stops for PNG output (radiance × 2^EV).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
@@ -97,8 +99,12 @@ pub struct RenderArgs {
     /// Texture filter, overriding the glTF samplers (for experiments): nearest, bilinear and
     /// bicubic read the full-resolution image only; trilinear and anisotropic use MIP maps and
     /// ray differentials.
-    #[arg(long, value_enum, default_value_t = crate::texture::TextureFilter::Anisotropic)]
-    pub texture_filter: crate::texture::TextureFilter,
+    #[arg(
+        long,
+        value_parser = super::values::texture_filter(),
+        default_value_t = Job::default().settings.texture_filter
+    )]
+    pub texture_filter: TextureFilter,
     /// Write 16 bits per channel to PNG.
     #[arg(long)]
     pub png16: bool,
@@ -132,9 +138,13 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
     pub max_spp: u32,
     /// Light transport: path (path tracing with next-event estimation and MIS) or direct
-    /// (direct light and mirror chains only).
-    #[arg(long, value_enum, default_value_t = render::Integrator::Path)]
-    pub integrator: render::Integrator,
+    /// (direct light and specular chains only, same BSDF).
+    #[arg(
+        long,
+        value_parser = super::values::integrator(),
+        default_value_t = Job::default().settings.integrator
+    )]
+    pub integrator: Integrator,
     /// Environment map: an equirectangular .hdr or .exr.
     #[arg(long, value_name = "FILE", conflicts_with = "background")]
     pub env: Option<PathBuf>,

@@ -1,0 +1,218 @@
+//! What a job asks for, checked and resolved before and while it runs: [`Job::check`] refuses
+//! impossible option combinations before any work; [`Job::camera`] picks the camera;
+//! the job's added lights are read and its partial sample range is checked here too.
+
+use super::{CameraChoice, Job, JobError, LightSource, Samples};
+use crate::output::OutputFormat;
+use crate::render::{MAX_IMAGE_SIDE, MAX_PIXELS};
+use crate::scene::defaults::{self, Completed};
+use crate::scene::light_spec;
+use crate::scene::{Camera, Light, Projection, Scene};
+use std::ops::Range;
+use std::path::Path;
+
+/// Most samples per pixel a job accepts (2^24): beyond it f32 sample sums stop resolving a
+/// single sample's contribution.
+pub const MAX_SPP: u32 = 1 << 24;
+
+impl Job {
+    /// Rejects option combinations that cannot be honoured, before any work is done. Returns
+    /// notes for the user (options that have no effect).
+    pub fn check(&self) -> Result<Vec<String>, JobError> {
+        let mut notes = Vec::new();
+        let bad = |m: String| Err(JobError::Options(m));
+        if self.settings.spp == 0 {
+            return bad("--spp must be at least 1".into());
+        }
+        if self.settings.spp > MAX_SPP {
+            return bad(format!(
+                "--spp {} is above the limit of {MAX_SPP}; render shards (--shard) and merge \
+                 them for more",
+                self.settings.spp
+            ));
+        }
+        let partial = matches!(self.samples, Samples::Range(_) | Samples::Shard { .. });
+        if partial && self.settings.aovs.any_ids() {
+            return bad(
+                "--aov instance_id, material_id and coverage are whole-image results, not \
+                 sums that merge: render them without --sample-range/--shard"
+                    .into(),
+            );
+        }
+        if self.width == Some(0) || self.height == Some(0) {
+            return bad("--width and --height must be at least 1".into());
+        }
+        let side = self.width.max(self.height).unwrap_or(0);
+        let pixels = u64::from(self.width.unwrap_or(1)) * u64::from(self.height.unwrap_or(1));
+        if side > MAX_IMAGE_SIDE || pixels > MAX_PIXELS {
+            return bad(format!(
+                "--width/--height {}×{} exceed the limits of {} per side and {} pixels",
+                self.width.map_or("auto".to_string(), |w| w.to_string()),
+                self.height.map_or("auto".to_string(), |h| h.to_string()),
+                MAX_IMAGE_SIDE,
+                MAX_PIXELS
+            ));
+        }
+        let Some(out) = &self.output else {
+            return Ok(notes);
+        };
+        let format = OutputFormat::from_path(&out.path)?;
+        let path = out.path.display();
+        if format == OutputFormat::Png && self.settings.aovs.any() {
+            return bad(format!(
+                "{path}: --aov needs an EXR output (AOVs are linear data); use -o NAME.exr"
+            ));
+        }
+        if format == OutputFormat::Png && partial {
+            return bad(format!(
+                "{path}: a partial render (--sample-range, --shard) writes sample sums to EXR; \
+                 use -o NAME.exr and combine the parts with glint merge"
+            ));
+        }
+        if format == OutputFormat::Exr && out.png16 {
+            return bad(format!(
+                "{path}: --png16 applies to PNG output; EXR is always 32-bit float"
+            ));
+        }
+        if format == OutputFormat::Exr && out.exposure_ev != 0.0 {
+            notes
+                .push("note: --exposure applies to PNG only; the EXR holds linear radiance".into());
+        }
+        if !out.exposure_ev.is_finite() {
+            return bad(format!("--exposure {} is not a number", out.exposure_ev));
+        }
+        let folder = match out.path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        if !folder.is_dir() {
+            return bad(format!(
+                "cannot write {path}: the folder {} does not exist; create it first",
+                folder.display()
+            ));
+        }
+        Ok(notes)
+    }
+
+    /// The camera the job renders through in `scene`, with the announcement of a default one.
+    pub fn camera(&self, scene: &Scene) -> Result<Completed<Camera>, JobError> {
+        Ok(match &self.camera {
+            CameraChoice::First => defaults::camera_for(scene, None)?,
+            CameraChoice::Index(i) => defaults::camera_for(scene, Some(*i))?,
+            CameraChoice::Given(camera) => Completed {
+                value: camera.clone(),
+                added: None,
+            },
+            CameraChoice::LookAt {
+                name,
+                position,
+                target,
+                up,
+                yfov,
+            } => {
+                let yfov = match yfov {
+                    Some(y) => *y,
+                    None => match defaults::camera_for(scene, None)?.value.projection {
+                        Projection::Perspective { yfov, .. } => yfov,
+                        Projection::Orthographic { .. } => {
+                            match defaults::default_camera(scene).projection {
+                                Projection::Perspective { yfov, .. } => yfov,
+                                Projection::Orthographic { .. } => {
+                                    defaults::DEFAULT_YFOV_DEGREES.to_radians()
+                                }
+                            }
+                        }
+                    },
+                };
+                let projection = Projection::Perspective {
+                    yfov,
+                    aspect_ratio: None,
+                };
+                Completed {
+                    value: Camera::look_at(name, *position, *target, *up, projection),
+                    added: None,
+                }
+            }
+        })
+    }
+
+    /// The lights the job adds, parsed and read.
+    pub(super) fn extra_lights(&self) -> Result<Vec<Light>, JobError> {
+        let mut lights = Vec::new();
+        for source in &self.lights {
+            match source {
+                LightSource::Light(light) => lights.push(light.clone()),
+                LightSource::Spec(spec) => {
+                    lights.push(light_spec::parse_light(spec).map_err(|source| {
+                        JobError::LightSpec {
+                            spec: spec.clone(),
+                            source,
+                        }
+                    })?)
+                }
+                LightSource::File(path) => {
+                    lights.extend(light_spec::load_lights_file(path).map_err(JobError::LightsFile)?)
+                }
+            }
+        }
+        Ok(lights)
+    }
+
+    /// The samples of a partial job, checked against `spp`; `None` for a full one.
+    pub(super) fn partial_samples(&self) -> Result<Option<Range<u32>>, JobError> {
+        let spp = self.settings.spp;
+        let samples = match self.samples {
+            Samples::Range(ref r) => r.clone(),
+            Samples::Shard { index, count } => {
+                crate::render::partial::shard_samples(spp, index, count)
+            }
+            Samples::All | Samples::Progressive(_) => return Ok(None),
+        };
+        if samples.is_empty() || samples.end > spp {
+            return Err(JobError::Options(format!(
+                "samples {}..{} are not a non-empty part of the {spp} samples per pixel; pick a \
+                 range within 0..{spp} (or fewer shards than samples)",
+                samples.start, samples.end
+            )));
+        }
+        Ok(Some(samples))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::job::OutputSpec;
+
+    #[test]
+    fn bad_options_are_refused_before_any_work() {
+        let dir = tempfile::tempdir().unwrap();
+        let job = |path: &str, f: &dyn Fn(&mut Job)| {
+            let mut job = Job {
+                output: Some(OutputSpec {
+                    path: dir.path().join(path),
+                    ..OutputSpec::default()
+                }),
+                ..Job::default()
+            };
+            f(&mut job);
+            job.check()
+        };
+        assert!(job("a.png", &|_| {}).is_ok());
+        assert!(job("a.png", &|j| j.settings.aovs.depth = true).is_err());
+        assert!(job("a.png", &|j| j.samples = Samples::Range(0..2)).is_err());
+        assert!(job("a.exr", &|j| j.output.as_mut().unwrap().png16 = true).is_err());
+        assert!(job("a.png", &|j| j.settings.spp = 0).is_err());
+        assert!(job("missing/a.png", &|_| {}).is_err());
+        // ID AOVs are not sums: a partial render cannot carry them.
+        let partial_ids = |j: &mut Job| {
+            j.settings.aovs.coverage = true;
+            j.samples = Samples::Shard { index: 0, count: 2 };
+        };
+        assert!(job("a.exr", &partial_ids).is_err());
+        assert!(job("a.exr", &|j| j.settings.aovs.instance_id = true).is_ok());
+        assert!(job("a.png", &|j| j.settings.aovs.material_id = true).is_err());
+        let notes = job("a.exr", &|j| j.output.as_mut().unwrap().exposure_ev = 1.0).unwrap();
+        assert_eq!(notes.len(), 1);
+    }
+}

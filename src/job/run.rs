@@ -1,0 +1,320 @@
+//! Running a job: [`run`] completes the scene for it, renders it and writes its output.
+
+use super::complete::environment_for;
+use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
+use crate::light::LightUnits;
+use crate::output::fingerprint::SceneTag;
+use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr, write_png};
+use crate::render::{
+    Aovs, Image, Progress, RenderInputs, RenderSettings, RenderStats, partial, progressive,
+    render_film,
+};
+use crate::scene::defaults::{self, Completed};
+use crate::scene::{Camera, Light};
+use glam::Vec3;
+use std::ops::Range;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+/// How [`run`] runs a job, besides the job itself. `Default`: a pool of the job's own, no
+/// progress report, notes dropped, not cancellable.
+#[derive(Clone, Copy, Default)]
+pub struct RunOptions<'a> {
+    /// A pool shared with other jobs (`glint batch`, the Python package's `render_batch`);
+    /// `None` starts one of the job's `settings.threads` threads.
+    pub pool: Option<&'a rayon::ThreadPool>,
+    /// Called from worker threads as tiles finish.
+    pub progress: Option<Progress<'a>>,
+    /// Receives notes for the user (a default camera, lights or environment added, a
+    /// stretched aspect ratio, options without effect); `None` drops them.
+    pub say: Option<&'a dyn Fn(String)>,
+    /// Setting it stops the render at the next tile, and the job fails with
+    /// [`crate::render::RenderError::Cancelled`], writing nothing (the Python package's
+    /// Ctrl-C). `None`: not cancellable.
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+/// What [`run`] rendered (and wrote, if the job has an output).
+#[derive(Clone, Debug)]
+pub struct JobOutput {
+    /// The file written, if any.
+    pub output: Option<PathBuf>,
+    /// Image size in pixels.
+    pub width: u32,
+    /// Image size in pixels.
+    pub height: u32,
+    /// The samples rendered (all of 0..spp unless partial or progressive).
+    pub samples: Range<u32>,
+    /// What the render traced.
+    pub stats: RenderStats,
+    /// How the samples were chosen, for a summary line: a partial range, or why a
+    /// progressive render stopped ("" for a plain render).
+    pub note: String,
+    /// The resolved images, for callers that keep them in memory (the Python package);
+    /// `None` for a partial job, whose output is sums, not an image.
+    pub images: Option<JobImages>,
+}
+
+/// Resolved images of a job ([`JobOutput::images`]).
+#[derive(Clone, Debug)]
+pub struct JobImages {
+    /// Radiance, W/(m²·sr).
+    pub image: Image<Vec3>,
+    /// The selected AOVs.
+    pub aovs: Aovs,
+}
+
+/// Runs `job` on `prepared` (which must come from the job's scene and backend): checks the
+/// job, completes the camera, lights and environment, renders the samples and writes the
+/// output. Every error names the scene.
+pub fn run(
+    job: &Job,
+    prepared: &PreparedScene,
+    options: RunOptions<'_>,
+) -> Result<JobOutput, JobError> {
+    run_in_scene(job, prepared, options).map_err(|e| e.in_scene(&prepared.label))
+}
+
+/// The scene as one job renders it: the camera, the lights and the environment, with the
+/// settings their completion implies.
+struct Completion {
+    camera: Camera,
+    lights: Vec<Light>,
+    environment: Option<Arc<crate::light::environment::EnvironmentLight>>,
+    settings: RenderSettings,
+}
+
+fn run_in_scene(
+    job: &Job,
+    prepared: &PreparedScene,
+    options: RunOptions<'_>,
+) -> Result<JobOutput, JobError> {
+    let say = |note: String| {
+        if let Some(say) = options.say {
+            say(note);
+        }
+    };
+    job.check()?;
+    let completion = complete(job, prepared, &say)?;
+    let Completion {
+        camera,
+        lights,
+        environment,
+        settings,
+    } = &completion;
+    let inputs = RenderInputs {
+        scene: &prepared.scene,
+        lights,
+        accel: prepared.accel.as_ref(),
+        camera,
+        pool: options.pool,
+        mipmaps: Some(&prepared.mipmaps),
+        environment: environment.as_deref(),
+        area_lights: Some(&prepared.area_lights),
+        cancel: options.cancel,
+    };
+    // Test-only (debug builds): a forced panic where the render starts, for tests/panics.rs.
+    crate::panics::test_panic_point("render", &prepared.label);
+    let output = job.output.as_ref();
+    let done = |samples, stats, note, images| JobOutput {
+        output: output.map(|o| o.path.clone()),
+        width: settings.width,
+        height: settings.height,
+        samples,
+        stats,
+        note,
+        images,
+    };
+    if let Some(samples) = job.partial_samples()? {
+        let (part, stats) =
+            partial::render_partial(&inputs, settings, samples.clone(), options.progress)?;
+        if let Some(out) = output {
+            // What the part was rendered from, so that `glint merge` refuses foreign parts.
+            let mut tag = SceneTag::of(
+                &job.scene,
+                &job.selection,
+                camera,
+                settings.width,
+                settings.height,
+            )
+            .map_err(|source| OutputError::Io {
+                path: out.path.clone(),
+                source,
+            })?;
+            tag.kernels = Some(prepared.accel.kernels());
+            crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
+        }
+        let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
+        return Ok(done(samples, stats, note, None));
+    }
+    let (image, aovs, stats, samples, note) = match &job.samples {
+        Samples::Progressive(rule) => {
+            let p =
+                progressive::render_progressive_with(&inputs, settings, rule, options.progress)?;
+            let note = format!(
+                "; stopped after {} passes ({:?}), estimated relative error {:.4}",
+                p.passes, p.reason, p.relative_error
+            );
+            let o = p.output;
+            (o.image, o.aovs, o.stats, 0..p.spp, note)
+        }
+        _ => {
+            let (film, stats) = render_film(&inputs, settings, 0..settings.spp, options.progress)?;
+            let (image, aovs) = film.resolve();
+            (image, aovs, stats, 0..settings.spp, String::new())
+        }
+    };
+    if let Some(out) = output {
+        match OutputFormat::from_path(&out.path)? {
+            OutputFormat::Png => write_png(
+                &out.path,
+                &image,
+                PngOptions {
+                    exposure_ev: out.exposure_ev,
+                    depth: if out.png16 {
+                        PngDepth::Sixteen
+                    } else {
+                        PngDepth::Eight
+                    },
+                },
+            ),
+            OutputFormat::Exr => write_exr(&out.path, &image, &aovs),
+        }?;
+    }
+    Ok(done(samples, stats, note, Some(JobImages { image, aovs })))
+}
+
+/// Completes the scene for `job`: its camera (asked for, first, or default), its environment
+/// ([`environment_for`]), its lights (the scene's and the job's, or the default lights when
+/// neither they nor an environment light it) and its image size, announcing what was added.
+fn complete(
+    job: &Job,
+    prepared: &PreparedScene,
+    say: &dyn Fn(String),
+) -> Result<Completion, JobError> {
+    let scene = &prepared.scene;
+    let camera = job.camera(scene)?;
+    if let Some(note) = camera.added {
+        say(note);
+    }
+    let camera = camera.value;
+    let given = job
+        .environment
+        .as_ref()
+        .map(|e| prepared.environment(e))
+        .transpose()?;
+    let extra = job.extra_lights()?;
+    let environment = environment_for(scene, &extra, given, job.settings.integrator);
+    if let Some(note) = environment.added {
+        say(note);
+    }
+    let environment = environment.value;
+    let lights = if environment.is_some() {
+        // An environment lights the scene: no default sun on top of it.
+        Completed {
+            value: scene.lights.iter().cloned().chain(extra).collect(),
+            added: None,
+        }
+    } else {
+        defaults::lights_for(scene, extra, &camera)
+    };
+    // Default lights are radiometric: only lights from the scene or the job are in the job's
+    // units.
+    let light_units = match lights.added {
+        Some(note) => {
+            say(note);
+            LightUnits::Radiometric
+        }
+        None => job.light_units,
+    };
+    let (width, height) = image_size(job.width, job.height, &camera);
+    if let (Some(_), Some(_), Some(fixed)) = (job.width, job.height, fixed_aspect(&camera))
+        && ((width as f32 / height as f32) / fixed - 1.0).abs() > 0.01
+    {
+        say(format!(
+            "note: {width}×{height} differs from camera \"{}\"'s aspect ratio {fixed:.4}: the \
+             image is stretched (give only --width or --height to keep it)",
+            camera.name
+        ));
+    }
+    Ok(Completion {
+        camera,
+        lights: lights.value,
+        environment,
+        settings: RenderSettings {
+            width,
+            height,
+            light_units,
+            ..job.settings
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::BackendKind;
+    use crate::job::OutputSpec;
+
+    #[test]
+    fn a_cancelled_job_fails_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.exr");
+        let job = Job {
+            width: Some(8),
+            height: Some(6),
+            backend: BackendKind::Bvh,
+            output: Some(OutputSpec {
+                path: path.clone(),
+                ..OutputSpec::default()
+            }),
+            ..Job::default()
+        };
+        let prepared =
+            PreparedScene::load(&job.scene, &job.selection, &job.load_options, job.backend)
+                .unwrap();
+        let cancel = AtomicBool::new(true);
+        let options = RunOptions {
+            cancel: Some(&cancel),
+            ..RunOptions::default()
+        };
+        let err = run(&job, &prepared, options).unwrap_err();
+        assert!(err.to_string().contains("cancelled"), "{err}");
+        assert!(!path.exists());
+        // The same job, not cancelled, renders.
+        cancel.store(false, std::sync::atomic::Ordering::Relaxed);
+        assert!(run(&job, &prepared, options).is_ok());
+        assert!(path.exists());
+    }
+
+    #[test]
+    fn a_job_renders_without_an_output_and_keeps_its_images() {
+        let job = Job {
+            width: Some(8),
+            height: Some(6),
+            settings: RenderSettings {
+                spp: 1,
+                threads: 1,
+                ..Job::default().settings
+            },
+            backend: BackendKind::Bvh,
+            ..Job::default()
+        };
+        let prepared =
+            PreparedScene::load(&job.scene, &job.selection, &job.load_options, job.backend)
+                .unwrap();
+        let notes = std::sync::Mutex::new(Vec::new());
+        let say = |n: String| notes.lock().unwrap().push(n);
+        let options = RunOptions {
+            say: Some(&say),
+            ..RunOptions::default()
+        };
+        let done = run(&job, &prepared, options).unwrap();
+        assert_eq!((done.width, done.height, done.samples), (8, 6, 0..1));
+        assert!(done.output.is_none());
+        assert!(done.stats.rays.camera == 48, "{:?}", done.stats.rays);
+        let images = done.images.expect("a whole render keeps its images");
+        assert_eq!((images.image.width, images.image.height), (8, 6));
+    }
+}

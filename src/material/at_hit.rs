@@ -1,0 +1,179 @@
+//! The surface front end: one call turns a material at a ray hit into everything shading
+//! needs ([`SurfaceAtHit`]): the shading point with its final shading normal, the frame the
+//! BSDF works in, the base colour (for the albedo AOV), the emitted radiance and the BSDF.
+//!
+//! Everything a hit's appearance depends on is applied here and nowhere else, in this order:
+//! 1. the hit point and geometric normal (`geometry::SurfaceInteraction`);
+//! 2. the interpolated vertex normal (meshes with NORMAL);
+//! 3. the footprint of the ray's differential (texture filtering; camera rays only);
+//! 4. the base colour: factor × COLOR_0 × base colour texture × procedural texture;
+//! 5. the normal map (bent so that it reflects `ωo` above the surface) and its tangent frame;
+//! 6. emission: factor × emissive texture (read only where the factor is not black);
+//! 7. metallic and roughness: factors × metallic-roughness texture;
+//! 8. the KHR_materials layers (their textures at the hit, the coat's own normal map);
+//! 9. the BSDF: glTF's metallic-roughness BRDF, or the layered BSDF over it.
+//!
+//! The result does not depend on the integrator: the direct integrator and the path tracer
+//! shade the same BSDF and differ only in which lobes they continue through. This is
+//! pbrt-v4's `SurfaceInteraction::GetBSDF` and Mitsuba's `si.bsdf()` in glint's terms.
+//!
+//! Work a hit does not need is skipped where it is decided: a mesh without NORMAL or COLOR_0
+//! interpolates neither, a material without a texture reads none, a ray without a
+//! differential has no footprint.
+
+use super::scattering::SurfaceBsdf;
+use super::{ShadingMaterial, layers, normal_map};
+use crate::accel::Hit;
+use crate::bsdf::Frame;
+use crate::geometry::{SurfaceInteraction, shading_normal};
+use crate::scene::Mesh;
+use crate::texture::{Footprint, RayDifferential, TextureEvaluator, TexturePoint};
+use glam::{Vec3, Vec4};
+
+/// A ray's hit to be shaded.
+#[derive(Clone, Copy)]
+pub struct HitQuery<'a> {
+    /// The mesh hit.
+    pub mesh: &'a Mesh,
+    /// Its material, prepared.
+    pub material: &'a ShadingMaterial,
+    /// The hit.
+    pub hit: &'a Hit,
+    /// The ray's direction (need not be unit).
+    pub dir: Vec3,
+    /// The ray's differential, for the texture footprint (`None`: finest texture level).
+    pub differential: Option<RayDifferential>,
+    /// Whether the caller will scatter or light the hit (`false`: emission and AOVs only, so
+    /// the metallic-roughness and layer textures are not read and no BSDF is built).
+    pub scatters: bool,
+}
+
+/// What a hit presents to shading.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceAtHit {
+    /// The shading point; `si.ns` is the final shading normal (interpolated, normal-mapped).
+    pub si: SurfaceInteraction,
+    /// The BSDF's frame: `si.ns` and the normal map's tangent (an arbitrary one without).
+    pub frame: Frame,
+    /// Whether this side of the surface reflects, emits and is lit: a front face, a
+    /// double-sided material, or a material that transmits (glass is met from inside).
+    pub lit: bool,
+    /// KHR_materials_unlit: `albedo` leaves the surface as radiance and nothing scatters.
+    pub unlit: bool,
+    /// Base colour ρ at the hit (factor × vertex colour × textures), linear RGB.
+    pub albedo: Vec3,
+    /// Emitted radiance `Le` toward `si.wo` (W/(m²·sr)); zero on an unlit side.
+    pub emission: Vec3,
+    /// The BSDF in `frame`; `None` on an unlit side, for unlit materials, or when the query
+    /// did not ask for it.
+    pub bsdf: Option<SurfaceBsdf>,
+}
+
+/// The surface at `q`'s hit (see the module doc); `None` when the hit cannot be shaded (a
+/// triangle outside the mesh, or one without a normal).
+#[inline(always)]
+pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<SurfaceAtHit> {
+    let (mesh, material) = (q.mesh, q.material);
+    let mut si = SurfaceInteraction::from_hit(mesh, q.hit, q.dir)?;
+    if let Some(normals) = &mesh.normals {
+        si.ns = shading_normal(&si, normals);
+    }
+    let lit = si.front_face || material.double_sided || material.may_transmit();
+    let footprint = q
+        .differential
+        .filter(|_| material.textured())
+        .and_then(|rd| Footprint::at(mesh, &si, &rd));
+    // The interpolated normal, before the base's normal map: a clear coat's normal map
+    // perturbs this one.
+    let vertex_ns = si.ns;
+    let mapped_tangent = {
+        let at = TexturePoint {
+            mesh,
+            si: &si,
+            footprint: footprint.as_ref(),
+        };
+        normal_map::at_hit(textures, &at, material).map(|(ns, tangent)| {
+            si.ns = ns;
+            tangent
+        })
+    };
+    let at = TexturePoint {
+        mesh,
+        si: &si,
+        footprint: footprint.as_ref(),
+    };
+
+    let mut albedo = material.base_color;
+    if let Some(colors) = &mesh.colors {
+        albedo *= si.interpolate(colors).unwrap_or(Vec4::ONE).truncate();
+    }
+    let mut emission = material.emissive;
+    if let Some(t) = &material.base_color_texture {
+        albedo *= textures.value(&at, t).truncate();
+    }
+    if lit
+        && emission != Vec3::ZERO
+        && let Some(t) = &material.emissive_texture
+    {
+        emission *= textures.value(&at, t).truncate();
+    }
+    if let Some(procedural) = &material.procedural {
+        albedo *= textures.procedural(&at, procedural);
+    }
+    if !lit || material.unlit {
+        // Unlit materials ignore their emissive factor: their ρ is what leaves them.
+        emission = Vec3::ZERO;
+    }
+    let frame = match mapped_tangent {
+        Some(t) => Frame::from_normal_tangent(si.ns, t),
+        None => Frame::from_normal(si.ns),
+    };
+    let bsdf = (q.scatters && lit && !material.unlit).then(|| {
+        let metallic_roughness = metallic_roughness(textures, &at, material);
+        let layers = match &material.layers {
+            Some(l) if l.has_textures() => {
+                let mut l = layers::at_hit(textures, &at, l);
+                l.coat_normal = layers::coat_normal(textures, &at, vertex_ns, material, &frame);
+                Some(l)
+            }
+            other => *other,
+        };
+        SurfaceBsdf::new(
+            albedo,
+            metallic_roughness,
+            material,
+            layers.as_ref(),
+            si.front_face,
+        )
+    });
+    Some(SurfaceAtHit {
+        si,
+        frame,
+        lit,
+        unlit: material.unlit,
+        albedo,
+        emission,
+        bsdf,
+    })
+}
+
+/// The hit's metallic and roughness: the material's factors times its metallic-roughness
+/// texture's blue and green channels (glTF), clamped to [0, 1]; the factors alone without a
+/// texture.
+#[inline]
+fn metallic_roughness(
+    textures: &TextureEvaluator<'_>,
+    at: &TexturePoint<'_>,
+    material: &ShadingMaterial,
+) -> (f32, f32) {
+    match &material.metallic_roughness_texture {
+        Some(t) => {
+            let texel = textures.value(at, t);
+            (
+                (material.metallic * texel.z).clamp(0.0, 1.0),
+                (material.roughness * texel.y).clamp(0.0, 1.0),
+            )
+        }
+        None => (material.metallic, material.roughness),
+    }
+}
