@@ -300,6 +300,7 @@ fn supervise(target: &Target, settings: &Settings) -> Result<Report, String> {
             }
         }
         let status = child.wait().map_err(|e| format!("lost the worker: {e}"))?;
+        targets::remove_env_files_of(pid);
         let out_of_memory = out_of_memory.join().unwrap_or(false);
         report.executions += executions;
         report.findings += findings;
@@ -509,6 +510,7 @@ fn replay(args: &[String]) -> Result<bool, String> {
         println!("{file}: {outcome:?}");
         clean &= matches!(fuzzer.execute(&input), Verdict::Clean);
     }
+    targets::remove_env_file();
     Ok(clean)
 }
 

@@ -487,6 +487,18 @@ fn env_file_path() -> PathBuf {
     dir.join(format!("glint-fuzz-env-{}-{thread}", std::process::id()))
 }
 
+/// Removes the `env` input files a worker with process id `pid` left (one that died cannot).
+pub fn remove_env_files_of(pid: u32) {
+    let prefix = format!("glint-fuzz-env-{pid}-");
+    for dir in [Path::new("/dev/shm").to_path_buf(), std::env::temp_dir()] {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            if entry.file_name().to_string_lossy().starts_with(&prefix) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+}
+
 /// Removes this thread's `env` input file.
 pub fn remove_env_file() {
     ENV_FILE.with(|path| {
