@@ -35,6 +35,7 @@ pub use kernel::{KernelChoice, KernelFlags};
 pub use progressive::{ProgressiveOutput, StopReason, StopRule, render_progressive};
 pub use sampler::{PixelSampler, PixelSampling};
 pub use scheduler::TileScheduler;
+pub use crate::bsdf::BrdfModel;
 pub use stats::{RayCounts, RenderStats};
 
 use crate::accel::{Accel, AccelError, BackendKind, BuildOptions};
@@ -86,6 +87,9 @@ pub struct RenderSettings {
     /// Whether the path tracer ends paths by Russian roulette (unbiased either way; off, every
     /// path runs to `max_depth`).
     pub russian_roulette: bool,
+    /// The metallic-roughness model: energy-compensated (default) or the glTF spec's
+    /// Appendix B exactly.
+    pub brdf: BrdfModel,
 }
 
 /// How the path tracer estimates light from surfaces and the environment it can also hit.
@@ -131,6 +135,7 @@ impl Default for RenderSettings {
             environment_visible: true,
             light_strategy: LightStrategy::Mis,
             russian_roulette: true,
+            brdf: BrdfModel::default(),
         }
     }
 }
