@@ -10,7 +10,7 @@
 //! E_spec(μ) = f0 (E0 − E1) + f90 E1             (albedo of the lobe with Schlick's
 //!                                                F = f0 + (f90 − f0) w, exact since F is
 //!                                                linear in f0 and f90)
-//! A0(α) = 2 ∫ E0 μ dμ,  A1(α) = 2 ∫ E1 μ dμ,  A10(α) = 2 ∫ (E1/E0) μ dμ     (cosine averages)
+//! A0(α) = 2 ∫ E0 μ dμ,  A1(α) = 2 ∫ E1 μ dμ                          (cosine averages)
 //! ```
 //!
 //! Each cell is integrated by quasi-Monte Carlo over visible normals: a reflected direction
@@ -21,7 +21,7 @@
 //! (both squares pack nodes where the albedo changes fastest: near grazing, where rough GGX's
 //! albedo climbs back towards 1 as `G2/G1 → 1`, and at small α); lookups are bilinear in
 //! `(√μ, r)`. The averages are Simpson's rule in `x = √μ`: `2 ∫ g μ dμ = 4 ∫ g(x²) x³ dx`. Smooth surfaces (`α <` [`SMOOTH_ALPHA`]) use the delta
-//! limit exactly: `E0 = 1`, `E1 = w(μ)`, `A0 = 1`, `A1 = A10 = 2 ∫ (1 − μ)⁵ μ dμ = 1/21`.
+//! limit exactly: `E0 = 1`, `E1 = w(μ)`, `A0 = 1`, `A1 = 2 ∫ (1 − μ)⁵ μ dμ = 1/21`.
 //!
 //! The table is deterministic (same numbers on every run and thread) and built once per
 //! process, in about a tenth of a second.
@@ -40,7 +40,7 @@ const SAMPLES_PER_CELL: u32 = 2048;
 const SCHLICK_WEIGHT_AVERAGE: f32 = 1.0 / 21.0;
 
 /// The directional albedos `(E0, E1)` of the single-scatter GGX lobe at one `(μ, α)`, and
-/// the cosine averages `(A0, A1, A10)` at one `α` (see the module documentation).
+/// the cosine averages `(A0, A1)` at one `α` (see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GgxAlbedo {
     /// `E0(μ, α)`: the albedo with a Fresnel of 1.
@@ -56,15 +56,13 @@ pub struct GgxAlbedoAverage {
     pub a0: f32,
     /// `A1(α) = 2 ∫ E1 μ dμ`.
     pub a1: f32,
-    /// `A10(α) = 2 ∫ (E1/E0) μ dμ`.
-    pub a10: f32,
 }
 
 struct Table {
     /// `(E0, E1)` at `[j * MU_NODES + i]` (roughness node `j`, μ cell `i`).
     albedo: Vec<[f32; 2]>,
-    /// `(A0, A1, A10)` per roughness node.
-    average: Vec<[f32; 3]>,
+    /// `(A0, A1)` per roughness node.
+    average: Vec<[f32; 2]>,
 }
 
 fn table() -> &'static Table {
@@ -138,7 +136,7 @@ fn build() -> Table {
     let mut average = Vec::with_capacity(ROUGHNESS_NODES);
     for j in 0..ROUGHNESS_NODES {
         let alpha = alpha_of_node(j);
-        let (mut a0, mut a1, mut a10) = (0.0f64, 0.0f64, 0.0f64);
+        let (mut a0, mut a1) = (0.0f64, 0.0f64);
         for i in 0..MU_NODES {
             let x = sqrt_mu_of_node(i);
             let e = integrate_albedo(x * x, alpha);
@@ -154,11 +152,8 @@ fn build() -> Table {
             let w = 4.0 * f64::from(x).powi(3) * simpson * h / 3.0;
             a0 += w * f64::from(e.e0);
             a1 += w * f64::from(e.e1);
-            if e.e0 > 0.0 {
-                a10 += w * f64::from(e.e1 / e.e0);
-            }
         }
-        average.push([a0 as f32, a1 as f32, a10 as f32]);
+        average.push([a0 as f32, a1 as f32]);
     }
     Table { albedo, average }
 }
@@ -194,7 +189,7 @@ pub fn ggx_albedo(mu: f32, alpha: f32) -> GgxAlbedo {
     GgxAlbedo { e0: e[0], e1: e[1] }
 }
 
-/// `(A0, A1, A10)` at roughness `α`, linear in the table's roughness axis (exact delta limit
+/// `(A0, A1)` at roughness `α`, linear in the table's roughness axis (exact delta limit
 /// below [`SMOOTH_ALPHA`]).
 #[inline]
 pub fn ggx_albedo_average(alpha: f32) -> GgxAlbedoAverage {
@@ -202,7 +197,6 @@ pub fn ggx_albedo_average(alpha: f32) -> GgxAlbedoAverage {
         return GgxAlbedoAverage {
             a0: 1.0,
             a1: SCHLICK_WEIGHT_AVERAGE,
-            a10: SCHLICK_WEIGHT_AVERAGE,
         };
     }
     let t = table();
@@ -212,26 +206,20 @@ pub fn ggx_albedo_average(alpha: f32) -> GgxAlbedoAverage {
     GgxAlbedoAverage {
         a0: l(0),
         a1: l(1),
-        a10: l(2),
     }
 }
 
-/// The albedo of the compensated specular lobe with Schlick's Fresnel `(f0, f90)` and
-/// Turquin's multiple-scattering factor `1 + c (1/E0 − 1)` (`c` the lobe's `f0`):
-/// `E_c(μ) = (f0 (E0 − E1) + f90 E1)(1 + c (1/E0 − 1))`, per channel.
+/// The albedo of the single-scatter lobe with Schlick's Fresnel `(f0, f90)`, per channel:
+/// `E_F(μ) = f0 (E0 − E1) + f90 E1`.
 #[inline]
-pub fn compensated_albedo(e: GgxAlbedo, f0: Vec3, f90: Vec3) -> Vec3 {
-    let e0 = e.e0.max(MIN_ALBEDO);
-    (f0 * (e0 - e.e1) + f90 * e.e1) * (Vec3::ONE + f0 * (1.0 / e0 - 1.0))
+pub fn schlick_albedo(e: GgxAlbedo, f0: Vec3, f90: Vec3) -> Vec3 {
+    f0 * (e.e0 - e.e1) + f90 * e.e1
 }
 
-/// The cosine average `2 ∫ E_c(μ) μ dμ` of [`compensated_albedo`], from the averages:
-/// `(1 − c)(f0 (A0 − A1) + f90 A1) + c (f0 (1 − A10) + f90 A10)` with `c = f0`.
+/// The cosine average `2 ∫ E_F(μ) μ dμ = f0 (A0 − A1) + f90 A1` of [`schlick_albedo`].
 #[inline]
-pub fn compensated_albedo_average(a: GgxAlbedoAverage, f0: Vec3, f90: Vec3) -> Vec3 {
-    let single = f0 * (a.a0 - a.a1) + f90 * a.a1;
-    let multiple = f0 * (1.0 - a.a10) + f90 * a.a10;
-    (Vec3::ONE - f0) * single + f0 * multiple
+pub fn schlick_albedo_average(a: GgxAlbedoAverage, f0: Vec3, f90: Vec3) -> Vec3 {
+    f0 * (a.a0 - a.a1) + f90 * a.a1
 }
 
 /// Turquin's factor `1 + c (1/E0 − 1)` on a specular lobe whose Fresnel at normal incidence
@@ -326,8 +314,9 @@ mod tests {
         assert!((a.a1 - SCHLICK_WEIGHT_AVERAGE).abs() < 2e-3, "{a:?}");
         // A white compensated lobe reflects 1 at every angle.
         for &mu in &[0.05, 0.5, 1.0] {
-            let e = compensated_albedo(ggx_albedo(mu, 0.6), Vec3::ONE, Vec3::ONE);
-            assert!((e - Vec3::ONE).abs().max_element() < 1e-5, "{e}");
+            let e = ggx_albedo(mu, 0.6);
+            let albedo = schlick_albedo(e, Vec3::ONE, Vec3::ONE) * multiple_scattering_factor(e, Vec3::ONE);
+            assert!((albedo - Vec3::ONE).abs().max_element() < 1e-5, "{albedo}");
         }
     }
 }

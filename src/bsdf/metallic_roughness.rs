@@ -45,10 +45,11 @@
 //! ([`energy`](super::energy)) at `α` and `E_c` the albedo of a compensated lobe:
 //!
 //! ```text
-//! k(c, μo)  = 1 + c (1/E0(μo) − 1)                    (Turquin 2019, c the lobe's f0)
-//! metal     = F_metal · specular_brdf · k(baseColor, μo)
-//! dspec     = F_diel · specular_brdf · k(f0, μo)
-//! E_d(μ)    = (f0 (E0 − E1) + f90 E1)(μ) · k(f0, μ)    (albedo of dspec, per channel)
+//! k(μo)     = 1 + baseColor (1/E0(μo) − 1)             (Turquin 2019)
+//! metal     = F_metal · specular_brdf · k(μo)
+//! dspec     = F_diel · specular_brdf                   (single scattering, as in the spec)
+//! E_d(μ)    = f0 (E0 − E1)(μ) + f90 E1(μ)              (albedo of dspec, per channel)
+//! avg E_d   = f0 (A0 − A1) + f90 A1
 //! diffuse   = baseColor/π · (1 − E_d(μo))(1 − E_d(μi)) / (1 − avg E_d)   (Kulla & Conty 2017)
 //! f = (1 − metallic)(dspec + diffuse) + metallic · metal
 //! ```
@@ -57,9 +58,10 @@
 //! single-scatter albedo plus the share `F0 (1 − E0)` of the lost energy (Turquin's
 //! Fresnel-weighted term). The diffuse part reflects `baseColor (1 − E_d(μo))` (its
 //! cosine integral over `wi` is `1 − avg E_d` by definition of the average), so a white
-//! dielectric reflects `E_d + 1 − E_d = 1`, and with `specular = 0` the diffuse is exactly
-//! `baseColor/π`. The diffuse term is reciprocal, the metal factor is not (it depends on
-//! `μo`, as Turquin's is). `pdf` and `sample` draw the same lobes with the same
+//! dielectric reflects `E_d + 1 − E_d = 1` (what the dielectric's specular lobe loses to
+//! masking goes to the base, which is what albedo scaling means), and with `specular = 0`
+//! the diffuse is exactly `baseColor/π`. The dielectric is reciprocal; the metal's factor is
+//! not (it depends on `μo`, as Turquin's does). `pdf` and `sample` draw the same lobes with the same
 //! probabilities; the weights are `eval · cos θi / pdf` of the compensated `eval`, so the
 //! estimator is unbiased for the compensated BRDF. Smooth surfaces: `E0 = 1`, `E1 = (1−μ)⁵`,
 //! so the mirror is unchanged and `E_d` is Schlick's Fresnel at `μ`.
@@ -68,8 +70,8 @@
 //! the shading frame toward `wo` for two-sided surfaces.
 
 use super::energy::{
-    compensated_albedo, compensated_albedo_average, ggx_albedo, ggx_albedo_average,
-    multiple_scattering_factor,
+    ggx_albedo, ggx_albedo_average, multiple_scattering_factor, schlick_albedo,
+    schlick_albedo_average,
 };
 use super::microfacet::{TrowbridgeReitz, reflect, schlick};
 use super::{Bsdf, BsdfFlags, BsdfSample};
@@ -239,15 +241,15 @@ impl MetallicRoughnessBsdf {
     }
 
     /// `(1 − E_d(μo))(1 − E_d(μi)) / (1 − avg E_d)` per channel, where `E_d` is the albedo of
-    /// the compensated dielectric specular lobe: the diffuse base receives what that lobe
-    /// does not reflect, reciprocally.
+    /// the dielectric specular lobe: the diffuse base receives what that lobe does not
+    /// reflect, reciprocally.
     #[inline]
     fn compensated_diffuse_scale(&self, cos_o: f32, cos_i: f32) -> Vec3 {
         let alpha = self.alpha();
         let (f0, f90) = (self.dielectric_f0, Vec3::splat(self.dielectric_f90));
-        let e_o = compensated_albedo(ggx_albedo(cos_o, alpha), f0, f90);
-        let e_i = compensated_albedo(ggx_albedo(cos_i, alpha), f0, f90);
-        let avg = compensated_albedo_average(ggx_albedo_average(alpha), f0, f90);
+        let e_o = schlick_albedo(ggx_albedo(cos_o, alpha), f0, f90);
+        let e_i = schlick_albedo(ggx_albedo(cos_i, alpha), f0, f90);
+        let avg = schlick_albedo_average(ggx_albedo_average(alpha), f0, f90);
         let rest = |e: Vec3| (Vec3::ONE - e).max(Vec3::ZERO);
         let (ro, ri, ra) = (rest(e_o), rest(e_i), rest(avg));
         // A channel whose specular lobe reflects everything (f0 = 1) leaves nothing below.
@@ -276,7 +278,7 @@ impl MetallicRoughnessBsdf {
             BrdfModel::Spec => (1.0 - self.metallic) * diel + self.metallic * metal,
             BrdfModel::Compensated => {
                 let e = ggx_albedo(wo.z, self.alpha());
-                (1.0 - self.metallic) * diel * multiple_scattering_factor(e, self.dielectric_f0)
+                (1.0 - self.metallic) * diel
                     + self.metallic * metal * multiple_scattering_factor(e, self.base_color)
             }
         };
