@@ -182,7 +182,8 @@ pub fn ggx_albedo(mu: f32, alpha: f32) -> GgxAlbedo {
     let i = (y as usize).min(MU_NODES - 2);
     let ti = y - i as f32;
     let at = |jj: usize, ii: usize| t.albedo[jj * MU_NODES + ii];
-    let lerp2 = |a: [f32; 2], b: [f32; 2], s: f32| [a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s];
+    let lerp2 =
+        |a: [f32; 2], b: [f32; 2], s: f32| [a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s];
     let lo = lerp2(at(j, i), at(j, i + 1), ti);
     let hi = lerp2(at(j + 1, i), at(j + 1, i + 1), ti);
     let e = lerp2(lo, hi, tj);
@@ -203,10 +204,7 @@ pub fn ggx_albedo_average(alpha: f32) -> GgxAlbedoAverage {
     let (j, tj) = roughness_position(alpha);
     let (a, b) = (t.average[j], t.average[j + 1]);
     let l = |k: usize| a[k] + (b[k] - a[k]) * tj;
-    GgxAlbedoAverage {
-        a0: l(0),
-        a1: l(1),
-    }
+    GgxAlbedoAverage { a0: l(0), a1: l(1) }
 }
 
 /// The albedo of the single-scatter lobe with Schlick's Fresnel `(f0, f90)`, per channel:
@@ -315,7 +313,8 @@ mod tests {
         // A white compensated lobe reflects 1 at every angle.
         for &mu in &[0.05, 0.5, 1.0] {
             let e = ggx_albedo(mu, 0.6);
-            let albedo = schlick_albedo(e, Vec3::ONE, Vec3::ONE) * multiple_scattering_factor(e, Vec3::ONE);
+            let albedo =
+                schlick_albedo(e, Vec3::ONE, Vec3::ONE) * multiple_scattering_factor(e, Vec3::ONE);
             assert!((albedo - Vec3::ONE).abs().max_element() < 1e-5, "{albedo}");
         }
     }

@@ -253,7 +253,13 @@ impl MetallicRoughnessBsdf {
         let rest = |e: Vec3| (Vec3::ONE - e).max(Vec3::ZERO);
         let (ro, ri, ra) = (rest(e_o), rest(e_i), rest(avg));
         // A channel whose specular lobe reflects everything (f0 = 1) leaves nothing below.
-        let scale = |o: f32, i: f32, a: f32| if a > MIN_DIFFUSE_SHARE { o * i / a } else { 0.0 };
+        let scale = |o: f32, i: f32, a: f32| {
+            if a > MIN_DIFFUSE_SHARE {
+                o * i / a
+            } else {
+                0.0
+            }
+        };
         Vec3::new(
             scale(ro.x, ri.x, ra.x),
             scale(ro.y, ri.y, ra.y),

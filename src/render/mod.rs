@@ -28,6 +28,7 @@ pub mod tiles;
 pub(crate) mod visibility;
 pub(crate) mod wavefront;
 
+pub use crate::bsdf::BrdfModel;
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};
 pub use filter::{FilterKind, FilterSpec};
@@ -35,7 +36,6 @@ pub use kernel::{KernelChoice, KernelFlags};
 pub use progressive::{ProgressiveOutput, StopReason, StopRule, render_progressive};
 pub use sampler::{PixelSampler, PixelSampling};
 pub use scheduler::TileScheduler;
-pub use crate::bsdf::BrdfModel;
 pub use stats::{RayCounts, RenderStats};
 
 use crate::accel::{Accel, AccelError, BackendKind, BuildOptions};

@@ -5,7 +5,7 @@
 mod harness;
 
 use glam::{Vec2, Vec3};
-use glint::bsdf::{Bsdf, BrdfModel, LambertBsdf, MetallicRoughnessBsdf};
+use glint::bsdf::{BrdfModel, Bsdf, LambertBsdf, MetallicRoughnessBsdf};
 use glint::sampling::warp::{UNIFORM_HEMISPHERE_PDF, uniform_hemisphere};
 use harness::{P_THRESHOLD, check_sampling, dir, reciprocity_error, rng};
 use rand::Rng;
@@ -230,7 +230,8 @@ fn metallic_roughness_is_reciprocal() {
 fn metal_sampling_matches_pdf() {
     for model in BrdfModel::ALL {
         for (k, &r) in [0.3f32, 0.6, 1.0].iter().enumerate() {
-            let b = MetallicRoughnessBsdf::new(Vec3::new(0.95, 0.64, 0.54), 1.0, r).with_model(model);
+            let b =
+                MetallicRoughnessBsdf::new(Vec3::new(0.95, 0.64, 0.54), 1.0, r).with_model(model);
             assert_sampling_ok(&format!("{model} metal r = {r}"), &b, 20 + 10 * k as u64);
         }
     }
@@ -241,7 +242,11 @@ fn dielectric_sampling_matches_pdf() {
     for model in BrdfModel::ALL {
         for (k, &r) in [0.3f32, 0.6, 1.0].iter().enumerate() {
             let b = MetallicRoughnessBsdf::new(Vec3::new(0.2, 0.5, 0.8), 0.0, r).with_model(model);
-            assert_sampling_ok(&format!("{model} dielectric r = {r}"), &b, 60 + 10 * k as u64);
+            assert_sampling_ok(
+                &format!("{model} dielectric r = {r}"),
+                &b,
+                60 + 10 * k as u64,
+            );
         }
     }
 }
@@ -290,11 +295,14 @@ fn compensated_white_surfaces_reflect_one() {
             let wo = dir(c, 0.7);
             let seed = 3000 + 10 * i as u64 + j as u64;
             for m in [1.0, 0.0, 0.4] {
-                let b = MetallicRoughnessBsdf::new(Vec3::ONE, m, r)
-                    .with_model(BrdfModel::Compensated);
+                let b =
+                    MetallicRoughnessBsdf::new(Vec3::ONE, m, r).with_model(BrdfModel::Compensated);
                 let (a, se) = albedo_sampled(&b, wo, 200_000, seed);
                 assert!(
-                    (a - Vec3::ONE).abs().cmple(5.0 * se + Vec3::splat(2e-3)).all(),
+                    (a - Vec3::ONE)
+                        .abs()
+                        .cmple(5.0 * se + Vec3::splat(2e-3))
+                        .all(),
                     "white, metallic {m}, r = {r}, cos θo = {c}: albedo {a} ± {se}, want 1"
                 );
             }
@@ -320,7 +328,10 @@ fn compensated_white_surfaces_reflect_one() {
     // The spec's model really loses light (the option is not the same BRDF).
     let spec = MetallicRoughnessBsdf::new(Vec3::ONE, 1.0, 1.0);
     let (a, _) = albedo_sampled(&spec, dir(1.0, 0.0), 50_000, 5);
-    assert!(a.x < 0.35, "spec white metal at normal incidence, r = 1: {a}");
+    assert!(
+        a.x < 0.35,
+        "spec white metal at normal incidence, r = 1: {a}"
+    );
 }
 
 /// The compensated base's diffuse term `(1 − E_d(μo))(1 − E_d(μi))/(1 − avg E_d)` is
