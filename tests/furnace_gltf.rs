@@ -99,7 +99,7 @@ fn furnace(material: Material, brdf: BrdfModel, backend: BackendKind, spp: u32) 
     let (film, _) = render::render_film(&inputs, &settings, 0..spp, None).expect("render");
     let (image, _) = film.resolve();
     let (mut sum, mut count) = (0.0, 0usize);
-    let mut rings = vec![(0.0, 0usize); RINGS];
+    let mut rings = [(0.0, 0usize); RINGS];
     for y in 0..SIZE {
         for x in 0..SIZE {
             // The pixel centre's distance from the disc's centre, in sphere radii.

@@ -170,7 +170,7 @@ fn roughness_position(alpha: f32) -> (usize, f32) {
 /// [`SMOOTH_ALPHA`]).
 #[inline]
 pub fn ggx_albedo(mu: f32, alpha: f32) -> GgxAlbedo {
-    if !(alpha >= SMOOTH_ALPHA) {
+    if alpha.is_nan() || alpha < SMOOTH_ALPHA {
         return GgxAlbedo {
             e0: 1.0,
             e1: schlick_weight(mu.abs()),
@@ -194,7 +194,7 @@ pub fn ggx_albedo(mu: f32, alpha: f32) -> GgxAlbedo {
 /// below [`SMOOTH_ALPHA`]).
 #[inline]
 pub fn ggx_albedo_average(alpha: f32) -> GgxAlbedoAverage {
-    if !(alpha >= SMOOTH_ALPHA) {
+    if alpha.is_nan() || alpha < SMOOTH_ALPHA {
         return GgxAlbedoAverage {
             a0: 1.0,
             a1: SCHLICK_WEIGHT_AVERAGE,
