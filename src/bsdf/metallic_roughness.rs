@@ -42,12 +42,11 @@
 //! is the formulas above exactly). Single-scatter GGX loses the light that bounces between
 //! microfacets (a white metal of roughness 1 reflects 0.3-0.7), and the spec's dielectric
 //! mix gains energy at grazing angles. With `E0, E1` the tabulated albedos of the GGX lobe
-//! ([`energy`](super::energy)) at `α` and `A0` their cosine average:
+//! ([`energy`](super::energy)) at `α` and `E_c` the albedo of a compensated lobe:
 //!
 //! ```text
-//! f_ms      = (1 − E0(μo))(1 − E0(μi)) / (π (1 − A0))   (Kulla & Conty 2017)
-//! F_ms      = F_avg² A0 / (1 − F_avg (1 − A0)),  F_avg = baseColor + (1 − baseColor)/21
-//! metal     = F_metal · specular_brdf + F_ms · f_ms
+//! k(μo)     = 1 + baseColor (1/E0(μo) − 1)             (Turquin 2019)
+//! metal     = F_metal · specular_brdf · k(μo)
 //! dspec     = F_diel · specular_brdf                   (single scattering, as in the spec)
 //! E_d(μ)    = f0 (E0 − E1)(μ) + f90 E1(μ)              (albedo of dspec, per channel)
 //! avg E_d   = f0 (A0 − A1) + f90 A1
@@ -55,26 +54,24 @@
 //! f = (1 − metallic)(dspec + diffuse) + metallic · metal
 //! ```
 //!
-//! A white metal then reflects `E0 + (1 − E0) = 1` at every angle; a coloured one reflects
-//! its single-scatter albedo plus the lost `1 − E0` coloured by `F_ms` (light that bounces
-//! k times meets the Fresnel k times). The diffuse part reflects `baseColor (1 − E_d(μo))` (its
+//! A white metal then reflects `E0 · (1/E0) = 1` at every angle; a coloured one reflects its
+//! single-scatter albedo plus the share `F0 (1 − E0)` of the lost energy (Turquin's
+//! Fresnel-weighted term). The diffuse part reflects `baseColor (1 − E_d(μo))` (its
 //! cosine integral over `wi` is `1 − avg E_d` by definition of the average), so a white
 //! dielectric reflects `E_d + 1 − E_d = 1` (what the dielectric's specular lobe loses to
 //! masking goes to the base, which is what albedo scaling means), and with `specular = 0`
-//! the diffuse is exactly `baseColor/π`. The whole model is reciprocal. `sample` draws the
-//! specular lobe (visible normals) or the cosine lobe, which stands for the diffuse base and
-//! the metal's `f_ms`, with `P(specular) = s/(s + d)` from the lobe albedos at `μo`:
-//! `s = (1 − m) mean E_d + m mean E_metal`, `d = (1 − m) mean(baseColor (1 − E_d)) + m mean(F_ms)
-//! (1 − E0)`; `pdf` is the same mixture and the weights are `eval · cos θi / pdf` of the
-//! compensated `eval`, so the estimator is unbiased for the compensated BRDF. Smooth surfaces: `E0 = 1`, `E1 = (1−μ)⁵`,
+//! the diffuse is exactly `baseColor/π`. The dielectric is reciprocal; the metal's factor is
+//! not (it depends on `μo`, as Turquin's does). `pdf` and `sample` draw the same lobes with the same
+//! probabilities; the weights are `eval · cos θi / pdf` of the compensated `eval`, so the
+//! estimator is unbiased for the compensated BRDF. Smooth surfaces: `E0 = 1`, `E1 = (1−μ)⁵`,
 //! so the mirror is unchanged and `E_d` is Schlick's Fresnel at `μ`.
 //!
 //! Reflection only: `wo` below the surface (`wo.z ≤ 0`) reflects nothing; the caller orients
 //! the shading frame toward `wo` for two-sided surfaces.
 
 use super::energy::{
-    ggx_albedo, ggx_albedo_average, multiple_scattering_fresnel, multiple_scattering_white,
-    schlick_albedo, schlick_albedo_average,
+    ggx_albedo, ggx_albedo_average, multiple_scattering_factor, schlick_albedo,
+    schlick_albedo_average,
 };
 use super::microfacet::{TrowbridgeReitz, reflect, schlick};
 use super::{Bsdf, BsdfFlags, BsdfSample};
@@ -87,7 +84,7 @@ use std::str::FromStr;
 /// Which metallic-roughness model a surface uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum BrdfModel {
-    /// Energy-compensated (the default): Kulla & Conty's multiple-scattering lobe and a
+    /// Energy-compensated (the default): multiple-scattering GGX by Turquin's factor and a
     /// diffuse base that receives what the specular lobe does not reflect, so a white surface
     /// reflects 1 at every angle and roughness (see the module documentation).
     #[default]
@@ -223,19 +220,6 @@ impl MetallicRoughnessBsdf {
     /// The probability of choosing the specular lobe for `wo` (see the module documentation).
     pub fn specular_probability(&self, wo: Vec3) -> f32 {
         let m = self.metallic;
-        if self.model == BrdfModel::Compensated {
-            // Lobe albedos seen from wo: the specular lobes' E_F against the diffuse base's
-            // baseColor (1 − E_d) and the metal's multiple scattering F_ms (1 − E0).
-            let alpha = self.alpha();
-            let e = ggx_albedo(wo.z, alpha);
-            let e_d = schlick_albedo(e, self.dielectric_f0, Vec3::splat(self.dielectric_f90));
-            let e_m = schlick_albedo(e, self.base_color, Vec3::ONE);
-            let f_ms = multiple_scattering_fresnel(self.base_color, ggx_albedo_average(alpha));
-            let s = (1.0 - m) * mean(e_d) + m * mean(e_m);
-            let d = (1.0 - m) * mean(self.base_color * (Vec3::ONE - e_d).max(Vec3::ZERO))
-                + m * mean(f_ms) * (1.0 - e.e0).max(0.0);
-            return if s + d > 0.0 { s / (s + d) } else { 1.0 };
-        }
         let fd = self.dielectric_fresnel(wo.z);
         let s = (1.0 - m) * mean(fd) + m * mean(self.metal_fresnel(wo.z));
         let d = (1.0 - m) * (1.0 - fd.max_element()).max(0.0) * mean(self.base_color);
@@ -283,20 +267,6 @@ impl MetallicRoughnessBsdf {
         )
     }
 
-    /// The metal's multiple-scattering lobe `metallic · F_ms · f_ms(wo, wi)` (compensated
-    /// model only; see [`energy`](super::energy)).
-    #[inline]
-    fn metal_multiple_scattering(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        if self.model == BrdfModel::Spec || self.metallic <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let alpha = self.alpha();
-        let avg = ggx_albedo_average(alpha);
-        let white =
-            multiple_scattering_white(ggx_albedo(wo.z, alpha), ggx_albedo(wi.z, alpha), avg);
-        multiple_scattering_fresnel(self.base_color, avg) * (self.metallic * white)
-    }
-
     /// The isotropic α the energy tables are read at.
     #[inline]
     fn alpha(&self) -> f32 {
@@ -312,7 +282,11 @@ impl MetallicRoughnessBsdf {
         let (diel, metal) = (self.dielectric_fresnel(c), self.metal_fresnel(c));
         let f = match self.model {
             BrdfModel::Spec => (1.0 - self.metallic) * diel + self.metallic * metal,
-            BrdfModel::Compensated => (1.0 - self.metallic) * diel + self.metallic * metal,
+            BrdfModel::Compensated => {
+                let e = ggx_albedo(wo.z, self.alpha());
+                (1.0 - self.metallic) * diel
+                    + self.metallic * metal * multiple_scattering_factor(e, self.base_color)
+            }
         };
         f * (tr.d(h) * vis)
     }
@@ -344,11 +318,9 @@ impl Bsdf for MetallicRoughnessBsdf {
         if self.distribution.is_smooth() {
             return diffuse;
         }
-        diffuse + self.specular(wo, wi, h) + self.metal_multiple_scattering(wo, wi)
+        diffuse + self.specular(wo, wi, h)
     }
 
-    /// The cosine-weighted lobe stands for the diffuse base and, in the compensated model, the
-    /// metal's multiple scattering (both are smooth, wide lobes).
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
