@@ -219,6 +219,44 @@ fn renders_png_with_the_camera_aspect_and_reports_on_stderr() {
     assert_eq!(png.color(), image::ColorType::Rgb16);
 }
 
+/// The summary line and the EXR header (`glint.brdf`) say which metallic-roughness model
+/// rendered: the energy-compensated default or `--brdf spec`.
+#[test]
+fn the_summary_and_the_exr_header_name_the_brdf() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_quad_scene(dir.path());
+    for (args, name) in [(&[][..], "compensated"), (&["--brdf", "spec"][..], "spec")] {
+        let mut all = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            "b.exr",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+        ];
+        all.extend_from_slice(args);
+        let out = glint(&all, dir.path());
+        assert!(out.status.success(), "{}", stderr(&out));
+        let message = stderr(&out);
+        assert!(message.contains(&format!("BRDF {name}")), "{message}");
+        let image =
+            exr::prelude::read_first_flat_layer_from_file(dir.path().join("b.exr")).unwrap();
+        let value = image
+            .layer_data
+            .attributes
+            .other
+            .iter()
+            .find(|(k, _)| **k == *"glint.brdf")
+            .map(|(_, v)| format!("{v:?}"))
+            .unwrap_or_default();
+        assert!(value.contains(name), "glint.brdf is '{value}', want {name}");
+    }
+}
+
 #[test]
 fn a_missing_camera_index_fails_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();

@@ -96,6 +96,7 @@ class Scene:
         env_hidden: bool = False,
         seed: int = 0,
         integrator: Literal["path", "direct"] = "path",
+        brdf: Literal["compensated", "spec"] = "compensated",
         max_depth: int = 8,
         aovs: Sequence[AovName] = (),
         threads: int = 0,

@@ -8,7 +8,7 @@ use glint::job::{
     CameraChoice, EnvironmentSource, Job, LightSource, OutputSpec, Samples, SceneSource,
 };
 use glint::render::{
-    AovSelection, FilterSpec, Integrator, PixelSampling, RenderSettings, StopRule,
+    AovSelection, BrdfModel, FilterSpec, Integrator, PixelSampling, RenderSettings, StopRule,
     progressive::DEFAULT_MAX_SPP,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -28,7 +28,7 @@ pub const AOV_NAMES: [&str; 6] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 22] = [
+pub const RENDER_KEYS: [&str; 23] = [
     "width",
     "height",
     "spp",
@@ -42,6 +42,7 @@ pub const RENDER_KEYS: [&str; 22] = [
     "env_hidden",
     "seed",
     "integrator",
+    "brdf",
     "max_depth",
     "aovs",
     "threads",
@@ -104,6 +105,10 @@ pub fn job_from_kwargs(
         Some(name) => parsed("integrator", &name, str::parse::<Integrator>)?,
         None => defaults.settings.integrator,
     };
+    let brdf = match get::<String>(kwargs, "brdf")? {
+        Some(name) => parsed("brdf", &name, str::parse::<BrdfModel>)?,
+        None => defaults.settings.brdf,
+    };
     let filter = match get::<String>(kwargs, "filter")? {
         Some(text) => parsed("filter", &text, str::parse::<FilterSpec>)?,
         None => defaults.settings.filter,
@@ -162,6 +167,7 @@ pub fn job_from_kwargs(
             filter,
             sampling,
             integrator,
+            brdf,
             environment_visible: !get::<bool>(kwargs, "env_hidden")?.unwrap_or(false),
             ..defaults.settings
         },

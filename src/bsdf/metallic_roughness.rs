@@ -38,14 +38,92 @@
 //! diffuse lobe. glint's former mirror (metallic 1, roughness 0) is this BRDF's metallic,
 //! smooth end, now with Schlick's Fresnel.
 //!
+//! **Energy compensation** ([`BrdfModel::Compensated`], glint's default; [`BrdfModel::Spec`]
+//! is the formulas above exactly). Single-scatter GGX loses the light that bounces between
+//! microfacets (a white metal of roughness 1 reflects 0.3-0.7), and the spec's dielectric
+//! mix gains energy at grazing angles. With `E0, E1` the tabulated albedos of the GGX lobe
+//! ([`energy`](super::energy)) at `α` and `E_c` the albedo of a compensated lobe:
+//!
+//! ```text
+//! k(μo)     = 1 + baseColor (1/E0(μo) − 1)             (Turquin 2019)
+//! metal     = F_metal · specular_brdf · k(μo)
+//! dspec     = F_diel · specular_brdf                   (single scattering, as in the spec)
+//! E_d(μ)    = f0 (E0 − E1)(μ) + f90 E1(μ)              (albedo of dspec, per channel)
+//! avg E_d   = f0 (A0 − A1) + f90 A1
+//! diffuse   = baseColor/π · (1 − E_d(μo))(1 − E_d(μi)) / (1 − avg E_d)   (Kulla & Conty 2017)
+//! f = (1 − metallic)(dspec + diffuse) + metallic · metal
+//! ```
+//!
+//! A white metal then reflects `E0 · (1/E0) = 1` at every angle; a coloured one reflects its
+//! single-scatter albedo plus the share `F0 (1 − E0)` of the lost energy (Turquin's
+//! Fresnel-weighted term). The diffuse part reflects `baseColor (1 − E_d(μo))` (its
+//! cosine integral over `wi` is `1 − avg E_d` by definition of the average), so a white
+//! dielectric reflects `E_d + 1 − E_d = 1` (what the dielectric's specular lobe loses to
+//! masking goes to the base, which is what albedo scaling means), and with `specular = 0`
+//! the diffuse is exactly `baseColor/π`. The dielectric is reciprocal; the metal's factor is
+//! not (it depends on `μo`, as Turquin's does). `pdf` and `sample` draw the same lobes with the same
+//! probabilities; the weights are `eval · cos θi / pdf` of the compensated `eval`, so the
+//! estimator is unbiased for the compensated BRDF. Smooth surfaces: `E0 = 1`, `E1 = (1−μ)⁵`,
+//! so the mirror is unchanged and `E_d` is Schlick's Fresnel at `μ`.
+//!
 //! Reflection only: `wo` below the surface (`wo.z ≤ 0`) reflects nothing; the caller orients
 //! the shading frame toward `wo` for two-sided surfaces.
 
+use super::energy::{
+    ggx_albedo, ggx_albedo_average, multiple_scattering_factor, schlick_albedo,
+    schlick_albedo_average,
+};
 use super::microfacet::{TrowbridgeReitz, reflect, schlick};
 use super::{Bsdf, BsdfFlags, BsdfSample};
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
+use std::fmt;
+use std::str::FromStr;
+
+/// Which metallic-roughness model a surface uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum BrdfModel {
+    /// Energy-compensated (the default): multiple-scattering GGX by Turquin's factor and a
+    /// diffuse base that receives what the specular lobe does not reflect, so a white surface
+    /// reflects 1 at every angle and roughness (see the module documentation).
+    #[default]
+    Compensated,
+    /// The glTF specification's Appendix B exactly (single-scatter GGX, `fresnel_mix`).
+    Spec,
+}
+
+impl BrdfModel {
+    /// Every model, in the order the command line lists them.
+    pub const ALL: [BrdfModel; 2] = [BrdfModel::Compensated, BrdfModel::Spec];
+
+    /// The name the command line, job files, Python and output headers use.
+    pub fn name(self) -> &'static str {
+        match self {
+            BrdfModel::Compensated => "compensated",
+            BrdfModel::Spec => "spec",
+        }
+    }
+}
+
+impl fmt::Display for BrdfModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for BrdfModel {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        BrdfModel::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                format!("unknown BRDF model '{s}': expected 'compensated' (energy-conserving, the default) or 'spec' (glTF Appendix B exactly)")
+            })
+    }
+}
 
 /// The glTF metallic-roughness BRDF (see the module documentation for the formulas).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,6 +139,8 @@ pub struct MetallicRoughnessBsdf {
     /// Dielectric Fresnel at grazing incidence (KHR_materials_specular's `specular`, 1 by
     /// default).
     pub dielectric_f90: f32,
+    /// Appendix B exactly, or energy-compensated.
+    pub model: BrdfModel,
 }
 
 /// Dielectric Fresnel `f0` of an index of refraction against air, `((ior − 1)/(ior + 1))²`.
@@ -69,6 +149,10 @@ pub fn f0_from_ior(ior: f32) -> f32 {
     let r = (ior - 1.0) / (ior + 1.0);
     if r.is_finite() { r * r } else { 1.0 }
 }
+
+/// Below this share of light left to the diffuse base (averaged over directions), the base
+/// gets none: `(1 − E_d(μo))(1 − E_d(μi))/(1 − avg E_d)` is then 0/0 at f0 = 1.
+const MIN_DIFFUSE_SHARE: f32 = 1e-6;
 
 #[inline]
 fn mean(v: Vec3) -> f32 {
@@ -92,7 +176,15 @@ impl MetallicRoughnessBsdf {
             distribution: TrowbridgeReitz::from_roughness(roughness),
             dielectric_f0: Vec3::splat(0.04),
             dielectric_f90: 1.0,
+            model: BrdfModel::Spec,
         }
+    }
+
+    /// The same BRDF under `model` ([`new`](Self::new) gives [`BrdfModel::Spec`], the
+    /// formulas of Appendix B; the renderer's default is [`BrdfModel::Compensated`]).
+    pub fn with_model(mut self, model: BrdfModel) -> Self {
+        self.model = model;
+        self
     }
 
     /// The dielectric Fresnel of KHR_materials_ior (`ior`, 1.5 by default; 0 means f0 = 1) and
@@ -137,9 +229,48 @@ impl MetallicRoughnessBsdf {
     /// The diffuse term `(1 − metallic)(1 − max F_diel(wo·h)) baseColor/π`, for both
     /// directions above the surface.
     #[inline]
-    fn diffuse(&self, wo_h: f32) -> Vec3 {
-        let fd = self.dielectric_fresnel(wo_h).max_element();
-        self.base_color * ((1.0 - self.metallic) * (1.0 - fd).max(0.0) * FRAC_1_PI)
+    fn diffuse(&self, wo: Vec3, wi: Vec3, wo_h: f32) -> Vec3 {
+        let tint = self.base_color * ((1.0 - self.metallic) * FRAC_1_PI);
+        match self.model {
+            BrdfModel::Spec => {
+                let fd = self.dielectric_fresnel(wo_h).max_element();
+                tint * (1.0 - fd).max(0.0)
+            }
+            BrdfModel::Compensated => tint * self.compensated_diffuse_scale(wo.z, wi.z),
+        }
+    }
+
+    /// `(1 − E_d(μo))(1 − E_d(μi)) / (1 − avg E_d)` per channel, where `E_d` is the albedo of
+    /// the dielectric specular lobe: the diffuse base receives what that lobe does not
+    /// reflect, reciprocally.
+    #[inline]
+    fn compensated_diffuse_scale(&self, cos_o: f32, cos_i: f32) -> Vec3 {
+        let alpha = self.alpha();
+        let (f0, f90) = (self.dielectric_f0, Vec3::splat(self.dielectric_f90));
+        let e_o = schlick_albedo(ggx_albedo(cos_o, alpha), f0, f90);
+        let e_i = schlick_albedo(ggx_albedo(cos_i, alpha), f0, f90);
+        let avg = schlick_albedo_average(ggx_albedo_average(alpha), f0, f90);
+        let rest = |e: Vec3| (Vec3::ONE - e).max(Vec3::ZERO);
+        let (ro, ri, ra) = (rest(e_o), rest(e_i), rest(avg));
+        // A channel whose specular lobe reflects everything (f0 = 1) leaves nothing below.
+        let scale = |o: f32, i: f32, a: f32| {
+            if a > MIN_DIFFUSE_SHARE {
+                o * i / a
+            } else {
+                0.0
+            }
+        };
+        Vec3::new(
+            scale(ro.x, ri.x, ra.x),
+            scale(ro.y, ri.y, ra.y),
+            scale(ro.z, ri.z, ra.z),
+        )
+    }
+
+    /// The isotropic α the energy tables are read at.
+    #[inline]
+    fn alpha(&self) -> f32 {
+        (self.distribution.alpha_x * self.distribution.alpha_y).sqrt()
     }
 
     /// The rough specular term `(1 − m) F_diel D V + m F_metal D V` at half vector `h`.
@@ -148,8 +279,15 @@ impl MetallicRoughnessBsdf {
         let tr = &self.distribution;
         let vis = tr.g2(wo, wi) / (4.0 * wo.z * wi.z);
         let c = wo.dot(h);
-        let f = (1.0 - self.metallic) * self.dielectric_fresnel(c)
-            + self.metallic * self.metal_fresnel(c);
+        let (diel, metal) = (self.dielectric_fresnel(c), self.metal_fresnel(c));
+        let f = match self.model {
+            BrdfModel::Spec => (1.0 - self.metallic) * diel + self.metallic * metal,
+            BrdfModel::Compensated => {
+                let e = ggx_albedo(wo.z, self.alpha());
+                (1.0 - self.metallic) * diel
+                    + self.metallic * metal * multiple_scattering_factor(e, self.base_color)
+            }
+        };
         f * (tr.d(h) * vis)
     }
 
@@ -176,7 +314,7 @@ impl Bsdf for MetallicRoughnessBsdf {
         let Some(h) = Self::half(wo, wi) else {
             return Vec3::ZERO;
         };
-        let diffuse = self.diffuse(wo.dot(h));
+        let diffuse = self.diffuse(wo, wi, wo.dot(h));
         if self.distribution.is_smooth() {
             return diffuse;
         }

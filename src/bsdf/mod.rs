@@ -12,6 +12,7 @@
 
 pub mod clearcoat;
 pub mod dielectric;
+pub mod energy;
 pub mod flags;
 pub mod lambert;
 pub mod layered;
@@ -24,7 +25,7 @@ pub use dielectric::DielectricBsdf;
 pub use flags::BsdfFlags;
 pub use lambert::LambertBsdf;
 pub use layered::LayeredBsdf;
-pub use metallic_roughness::MetallicRoughnessBsdf;
+pub use metallic_roughness::{BrdfModel, MetallicRoughnessBsdf};
 pub use microfacet::TrowbridgeReitz;
 pub use sheen::SheenBsdf;
 

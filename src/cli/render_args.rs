@@ -8,7 +8,7 @@ use crate::job::{
     CameraChoice, EnvironmentSource, Job, JobError, LightSource, OutputSpec, Samples, SceneSource,
 };
 use crate::light::LightUnits;
-use crate::render::{self, AovSelection, Integrator, RenderSettings};
+use crate::render::{self, AovSelection, BrdfModel, Integrator, RenderSettings};
 use crate::texture::TextureFilter;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -145,6 +145,16 @@ pub struct RenderArgs {
         default_value_t = Job::default().settings.integrator
     )]
     pub integrator: Integrator,
+    /// Metallic-roughness model: compensated (energy-conserving: multiple-scattering GGX and
+    /// a diffuse base that receives what the specular lobe does not reflect, as Cycles,
+    /// three.js and Filament render glTF) or spec (the glTF specification's Appendix B exactly,
+    /// single-scatter: rough metal loses up to two thirds of its light).
+    #[arg(
+        long,
+        value_parser = super::values::brdf(),
+        default_value_t = Job::default().settings.brdf
+    )]
+    pub brdf: BrdfModel,
     /// Environment map: an equirectangular .hdr or .exr.
     #[arg(long, value_name = "FILE", conflicts_with = "background")]
     pub env: Option<PathBuf>,
@@ -272,6 +282,7 @@ impl RenderArgs {
                 filter: self.filter,
                 sampling: self.sampler,
                 integrator: self.integrator,
+                brdf: self.brdf,
                 environment_visible: !self.env_hidden,
                 ..RenderSettings::default()
             },

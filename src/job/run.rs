@@ -4,7 +4,9 @@ use super::complete::environment_for;
 use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
 use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
-use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr, write_png};
+use crate::output::{
+    OutputError, OutputFormat, PngDepth, PngOptions, write_exr_annotated, write_png,
+};
 use crate::render::{
     Aovs, Image, Progress, RenderInputs, RenderSettings, RenderStats, partial, progressive,
     render_film,
@@ -179,7 +181,12 @@ fn run_in_scene(
                     },
                 },
             ),
-            OutputFormat::Exr => write_exr(&out.path, &image, &aovs),
+            OutputFormat::Exr => write_exr_annotated(
+                &out.path,
+                &image,
+                &aovs,
+                &[("glint.brdf", settings.brdf.name())],
+            ),
         }?;
     }
     Ok(done(samples, stats, note, Some(JobImages { image, aovs })))

@@ -18,6 +18,7 @@ pub mod scattering;
 pub use at_hit::{HitQuery, SurfaceAtHit, at_hit};
 pub use scattering::SurfaceBsdf;
 
+use crate::bsdf::BrdfModel;
 use crate::scene::{Material, Scene, TextureRef};
 use glam::Vec3;
 
@@ -54,6 +55,8 @@ pub struct ShadingMaterial {
     pub normal_texture: Option<crate::scene::NormalTextureRef>,
     /// KHR_materials clear coat, sheen, transmission and volume (`None` without any).
     pub layers: Option<layers::ShadingLayers>,
+    /// Energy-compensated or Appendix-B metallic-roughness model (the render's choice).
+    pub brdf: BrdfModel,
 }
 
 impl ShadingMaterial {
@@ -80,6 +83,7 @@ impl ShadingMaterial {
                 .filter(|n| n.texture.texture < texture_count),
             layers: layers::ShadingLayers::of(material)
                 .map(|l| l.with_valid_textures(texture_count)),
+            brdf: BrdfModel::default(),
         }
     }
 
@@ -103,13 +107,17 @@ impl ShadingMaterial {
     }
 
     /// The materials of `scene`, plus glTF's default material at the end for meshes whose
-    /// material index is out of range (see [`material_index`]).
-    pub fn table(scene: &Scene) -> Vec<ShadingMaterial> {
+    /// material index is out of range (see [`material_index`]), each under the metallic-roughness
+    /// model `brdf`.
+    pub fn table(scene: &Scene, brdf: BrdfModel) -> Vec<ShadingMaterial> {
         scene
             .materials
             .iter()
             .chain(std::iter::once(&Material::default()))
-            .map(|m| Self::new(m, scene.textures.len()))
+            .map(|m| Self {
+                brdf,
+                ..Self::new(m, scene.textures.len())
+            })
             .collect()
     }
 }

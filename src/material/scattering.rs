@@ -32,7 +32,8 @@ impl SurfaceBsdf {
         front_face: bool,
     ) -> Self {
         let base = MetallicRoughnessBsdf::new(base_color, metallic, roughness)
-            .with_dielectric_fresnel(material.ior, material.specular, material.specular_color);
+            .with_dielectric_fresnel(material.ior, material.specular, material.specular_color)
+            .with_model(material.brdf);
         match layers {
             None => SurfaceBsdf::MetallicRoughness(base),
             Some(layers) => SurfaceBsdf::Layered(layers.bsdf(

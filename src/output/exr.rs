@@ -13,6 +13,7 @@
 use super::{OutputError, write_atomically};
 use crate::render::ids::COVERAGE_LAYERS;
 use crate::render::{Aovs, Image};
+use exr::meta::attribute::{AttributeValue, Text};
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes, SmallVec, WritableImage,
 };
@@ -23,6 +24,18 @@ pub fn write_exr(
     path: &std::path::Path,
     image: &Image<Vec3>,
     aovs: &Aovs,
+) -> Result<(), OutputError> {
+    write_exr_annotated(path, image, aovs, &[])
+}
+
+/// [`write_exr`] with text attributes in the header, `(name, value)`: `glint render` names the
+/// metallic-roughness model that rendered as `glint.brdf` (`compensated` or `spec`). Names and
+/// values must be ASCII; others are left out.
+pub fn write_exr_annotated(
+    path: &std::path::Path,
+    image: &Image<Vec3>,
+    aovs: &Aovs,
+    attributes: &[(&str, &str)],
 ) -> Result<(), OutputError> {
     let encode_error = |message: String| OutputError::Encode {
         path: path.to_path_buf(),
@@ -96,9 +109,17 @@ pub fn write_exr(
             ));
         }
     }
+    let mut layer_attributes = LayerAttributes::default();
+    for (name, value) in attributes {
+        if let (Some(name), Some(value)) = (Text::new_or_none(name), Text::new_or_none(value)) {
+            layer_attributes
+                .other
+                .insert(name, AttributeValue::Text(value));
+        }
+    }
     let layer = Layer::new(
         (image.width as usize, image.height as usize),
-        LayerAttributes::default(),
+        layer_attributes,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels),
     );

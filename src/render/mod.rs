@@ -28,6 +28,7 @@ pub mod tiles;
 pub(crate) mod visibility;
 pub(crate) mod wavefront;
 
+pub use crate::bsdf::BrdfModel;
 pub use camera::CameraRays;
 pub use film::{AovSelection, Aovs, Film, Image};
 pub use filter::{FilterKind, FilterSpec};
@@ -86,6 +87,9 @@ pub struct RenderSettings {
     /// Whether the path tracer ends paths by Russian roulette (unbiased either way; off, every
     /// path runs to `max_depth`).
     pub russian_roulette: bool,
+    /// The metallic-roughness model: energy-compensated (default) or the glTF spec's
+    /// Appendix B exactly.
+    pub brdf: BrdfModel,
 }
 
 /// How the path tracer estimates light from surfaces and the environment it can also hit.
@@ -132,6 +136,7 @@ impl Default for RenderSettings {
             environment_visible: true,
             light_strategy: LightStrategy::Mis,
             russian_roulette: true,
+            brdf: BrdfModel::default(),
         }
     }
 }

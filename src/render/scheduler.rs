@@ -40,6 +40,8 @@ pub struct TileScheduler<'a> {
     flags: KernelFlags,
     texture_bytes: u64,
     texture_texels: u64,
+    /// The metallic-roughness model the materials use (reported in the summary).
+    brdf: super::BrdfModel,
     /// The caller's stop flag ([`RenderInputs::cancel`]).
     cancel: Option<&'a AtomicBool>,
     /// Whether the centre-ray ID AOVs still have to be traced (by the next pass).
@@ -141,7 +143,7 @@ impl<'a> TileScheduler<'a> {
             camera: camera_rays,
             sampler: PixelSampler::new(settings.sampling, settings.spp, settings.seed),
             filter: FilterSampler::new(settings.filter),
-            materials: ShadingMaterial::table(scene),
+            materials: ShadingMaterial::table(scene, settings.brdf),
             lights: LightSampler::new(
                 &LightSet::new(lights, settings.light_units)?,
                 area_lights.filter(|_| samples_surfaces),
@@ -178,6 +180,7 @@ impl<'a> TileScheduler<'a> {
             flags,
             texture_bytes,
             texture_texels,
+            brdf: settings.brdf,
             cancel,
             ids_pending: settings.aovs.instance_id || settings.aovs.material_id,
         })
@@ -207,6 +210,7 @@ impl<'a> TileScheduler<'a> {
             kernel: self.flags,
             texture_bytes: self.texture_bytes,
             texture_texels: self.texture_texels,
+            brdf: self.brdf,
         }
     }
 

@@ -67,6 +67,8 @@ pub struct RenderStats {
     pub texture_bytes: u64,
     /// Texels of the textures' base levels (`texture_bytes` / this = bytes per texel).
     pub texture_texels: u64,
+    /// The metallic-roughness model the materials used.
+    pub brdf: crate::bsdf::BrdfModel,
 }
 
 impl RenderStats {
@@ -151,6 +153,12 @@ impl RenderStats {
                 self.texture_bytes as f64 / self.texture_texels.max(1) as f64
             ));
         }
+        line.push_str(match self.brdf {
+            crate::bsdf::BrdfModel::Compensated => {
+                "; BRDF compensated (energy-conserving multiple-scattering GGX)"
+            }
+            crate::bsdf::BrdfModel::Spec => "; BRDF spec (glTF Appendix B, single-scatter GGX)",
+        });
         let skipped = self.not_modelled();
         if !skipped.is_empty() {
             line.push_str("; ");
@@ -186,6 +194,7 @@ mod tests {
             kernel: KernelFlags::for_scene(&features, super::super::KernelChoice::Specialised),
             texture_bytes: 3 << 20,
             texture_texels: 3 << 18,
+            brdf: crate::bsdf::BrdfModel::Spec,
         };
         assert!((stats.mrays_per_second() - 3.0).abs() < 1e-9);
         let line = stats.summary();
@@ -194,6 +203,7 @@ mod tests {
             "400000 shadow",
             "100000 bounce",
             "3.0 Mrays/s",
+            "BRDF spec (glTF Appendix B",
             "7 facing away",
             "no textures: no texcoord interpolation",
             "no alpha: no any-hit tests",
