@@ -105,6 +105,9 @@ class Scene:
         time_budget: Optional[float] = None,
         target_error: Optional[float] = None,
         max_spp: int = 65536,
+        adaptive: Optional[float] = None,
+        clamp_indirect: Optional[float] = None,
+        mis_compensation: bool = True,
         output: Optional[PathLike] = None,
     ) -> Dict[str, npt.NDArray[np.generic]]:
         """Renders the scene; the arguments and defaults are ``glint render``'s.

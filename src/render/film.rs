@@ -89,6 +89,9 @@ pub struct Aovs {
     pub material_id: Option<Image<u32>>,
     /// See [`AovSelection::coverage`].
     pub coverage: Option<Coverage>,
+    /// Samples each pixel took: present when adaptive sampling ran ([`super::adaptive`]);
+    /// EXR outputs carry it as the uint32 channel `samples`.
+    pub samples: Option<Image<u32>>,
 }
 
 /// Per-pixel sums of one tile's samples, in the tile's row-major order.
@@ -418,6 +421,7 @@ impl Film {
                     .coverage
                     .as_ref()
                     .map(|counts| ids::resolve(width, height, counts)),
+                samples: None,
             },
         )
     }
