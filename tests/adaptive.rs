@@ -16,7 +16,12 @@ use render_support::{emitter, lambert, look_at, quad, scene};
 /// (rare bright hits: noise). The card hides the lamp from every point of the floor.
 fn floor_and_lamp() -> (Scene, Camera) {
     let floor = quad(Vec3::ZERO, Vec3::X * 1.2, Vec3::NEG_Z * 1.2, 0);
-    let card = quad(Vec3::new(0.0, 0.5, 0.0), Vec3::X * 0.3, Vec3::NEG_Z * 0.3, 0);
+    let card = quad(
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::X * 0.3,
+        Vec3::NEG_Z * 0.3,
+        0,
+    );
     // Faces down (X × Z = −Y), at 0.08 above the card.
     let lamp = quad(Vec3::new(0.0, 0.58, 0.0), Vec3::X * 0.03, Vec3::Z * 0.03, 1);
     let light = Light::Point {
@@ -60,7 +65,11 @@ fn image_mean(out: &RenderOutput) -> f64 {
 }
 
 fn total_samples(out: &RenderOutput) -> u64 {
-    let counts = out.aovs.samples.as_ref().expect("sample counts with adaptive sampling");
+    let counts = out
+        .aovs
+        .samples
+        .as_ref()
+        .expect("sample counts with adaptive sampling");
     counts.pixels.iter().map(|&n| n as u64).sum()
 }
 
@@ -80,7 +89,11 @@ fn adaptive_sampling_changes_no_mean() {
     let (mut uniform, mut adaptive) = (Vec::new(), Vec::new());
     let mut saved = 0.0;
     for seed in 0..seeds {
-        uniform.push(image_mean(&render(&scene, &camera, &settings(32, seed, None))));
+        uniform.push(image_mean(&render(
+            &scene,
+            &camera,
+            &settings(32, seed, None),
+        )));
         let out = render(&scene, &camera, &settings(32, 1000 + seed, Some(0.5)));
         saved += 1.0 - total_samples(&out) as f64 / (32.0 * 24.0 * 24.0);
         adaptive.push(image_mean(&out));
@@ -115,7 +128,7 @@ fn adaptive_sampling_beats_uniform_at_equal_samples() {
     let (mut e_adaptive, mut e_uniform) = (0.0, 0.0);
     for seed in 0..6 {
         let a = render(&scene, &camera, &settings(128, seed, Some(0.05)));
-        let pixels = (a.image.pixels.len()) as u64;
+        let pixels = a.image.pixels.len() as u64;
         // Uniform sampling with at least as many samples in total.
         let spp = total_samples(&a).div_ceil(pixels) as u32;
         assert!(spp < 128, "adaptive sampling stopped nothing ({spp} spp)");
@@ -158,6 +171,9 @@ fn bad_thresholds_are_refused() {
     let accel = render::prepare(&scene, BackendKind::Bvh, Default::default()).expect("build");
     for t in [0.0, -1.0, f32::NAN, f32::INFINITY] {
         let s = settings(8, 0, Some(t));
-        assert!(render::render(&scene, accel.as_ref(), &camera, &s, None).is_err(), "{t}");
+        assert!(
+            render::render(&scene, accel.as_ref(), &camera, &s, None).is_err(),
+            "{t}"
+        );
     }
 }

@@ -70,7 +70,7 @@ fn image_mean(
             let s = RenderSettings {
                 width: 8,
                 height: 8,
-                spp: 64,
+                spp: 256,
                 seed: 100 + seed,
                 threads: 2,
                 max_depth: 1,
@@ -103,15 +103,29 @@ fn compensated_mis_agrees_with_light_and_bsdf_sampling() {
     for (name, roughness, metallic) in [("diffuse", 1.0, 0.0), ("glossy", 0.3, 1.0)] {
         let scene = plane(roughness, metallic);
         let results = [
-            ("light only", image_mean(&scene, &camera, &env, LightStrategy::LightOnly, true)),
-            ("BSDF only", image_mean(&scene, &camera, &env, LightStrategy::BsdfOnly, true)),
-            ("MIS", image_mean(&scene, &camera, &env, LightStrategy::Mis, false)),
-            ("compensated MIS", image_mean(&scene, &camera, &env, LightStrategy::Mis, true)),
+            (
+                "light only",
+                image_mean(&scene, &camera, &env, LightStrategy::LightOnly, true),
+            ),
+            (
+                "BSDF only",
+                image_mean(&scene, &camera, &env, LightStrategy::BsdfOnly, true),
+            ),
+            (
+                "MIS",
+                image_mean(&scene, &camera, &env, LightStrategy::Mis, false),
+            ),
+            (
+                "compensated MIS",
+                image_mean(&scene, &camera, &env, LightStrategy::Mis, true),
+            ),
         ];
         let (reference, _) = results[3].1;
         for (a, (ma, sa)) in &results {
-            // The bound must be tight enough to see a bias of a few per cent.
-            assert!(4.0 * sa < 0.05 * reference, "{name} {a}: ± {sa} of {ma}");
+            // The bounds must be tight enough to see a bias of a few per cent (BSDF sampling
+            // alone finds the small lamps rarely: 10 %).
+            let tight = if *a == "BSDF only" { 0.1 } else { 0.03 };
+            assert!(4.0 * sa < tight * reference, "{name} {a}: ± {sa} of {ma}");
             for (b, (mb, sb)) in &results {
                 let sigma = (sa * sa + sb * sb).sqrt();
                 assert!(

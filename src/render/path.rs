@@ -234,7 +234,12 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, depth: u32, sums:
         return;
     }
     let w = bsdf_hit_weight(ctx, path, || ctx.lights.environment_pdf_of(env_pdf));
-    let value = clamped(ctx, beta * le * w, path.filter_weight, depth >= INDIRECT_DEPTH);
+    let value = clamped(
+        ctx,
+        beta * le * w,
+        path.filter_weight,
+        depth >= INDIRECT_DEPTH,
+    );
     sums.pending[path.pixel as usize] += value;
 }
 
