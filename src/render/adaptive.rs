@@ -67,7 +67,7 @@ pub fn threshold_for(
     target_error: Option<f64>,
 ) -> Result<Option<f32>, String> {
     match adaptive {
-        Some(t) if t == 0.0 => Ok(None),
+        Some(0.0) => Ok(None),
         Some(t) if t > 0.0 && t.is_finite() => Ok(Some(t)),
         Some(t) => Err(format!(
             "adaptive threshold {t}: give a positive relative error, e.g. 0.01, or 0 to turn \

@@ -259,7 +259,7 @@ struct Map {
 #[derive(Clone, Debug)]
 enum Kind {
     Constant(Vec3),
-    Map(Map),
+    Map(Box<Map>),
 }
 
 /// The environment light (see the module doc for the mapping, lookup and sampling).
@@ -336,7 +336,7 @@ impl EnvironmentLight {
                 .unwrap_or_else(|| cells_per_texel(width, height, options.interpolation)),
         };
         Ok(Self {
-            kind: Kind::Map(map),
+            kind: Kind::Map(Box::new(map)),
             rotation: options.rotation_deg.to_radians(),
         })
     }
@@ -674,7 +674,7 @@ impl Map {
 /// Per texel, the channel average of the lookup averaged over the texel.
 fn texel_averages(w: usize, h: usize, texels: &[Vec3], interp: Interpolation) -> Vec<f32> {
     let lum: Vec<f32> = texels.iter().map(|&t| channel_average(t)).collect();
-    let averaged = match interp {
+    match interp {
         Interpolation::Nearest => lum,
         Interpolation::Bilinear => {
             // ⅛ ¾ ⅛ along u (wrapping), then along v (clamped).
@@ -699,8 +699,7 @@ fn texel_averages(w: usize, h: usize, texels: &[Vec3], interp: Interpolation) ->
             }
             out
         }
-    };
-    averaged
+    }
 }
 
 #[cfg(test)]
