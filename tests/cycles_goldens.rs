@@ -117,7 +117,12 @@ fn render(name: &str, file: &str, seed: u32, size: (usize, usize), dir: &Path) -
         .args(["--integrator", "path", "--max-depth", "8"])
         .args(["--env", env.to_str().unwrap(), "--env-strength", "1"])
         .args(["--spp", &SPP.to_string(), "--seed", &seed.to_string()])
-        .args(["--width", &size.0.to_string(), "--height", &size.1.to_string()])
+        .args([
+            "--width",
+            &size.0.to_string(),
+            "--height",
+            &size.1.to_string(),
+        ])
         .output()
         .unwrap();
     assert!(

@@ -373,21 +373,22 @@ fn compensated_dielectric_base_gets_what_the_specular_lobe_leaves() {
 #[test]
 fn coloured_metal_gets_the_fresnel_weighted_multiple_scattering() {
     use glint::bsdf::energy::{
-        ggx_albedo, ggx_albedo_average, multiple_scattering_factor,
-        multiple_scattering_fresnel, schlick_albedo, schlick_fresnel_average,
+        ggx_albedo, ggx_albedo_average, multiple_scattering_factor, multiple_scattering_fresnel,
+        schlick_albedo, schlick_fresnel_average,
     };
     let f0 = Vec3::new(0.95, 0.6, 0.25);
     for (i, &r) in [0.5f32, 0.8, 1.0].iter().enumerate() {
         let alpha = r * r;
         for (j, &c) in [1.0f64, 0.5, 0.2].iter().enumerate() {
             let wo = dir(c, 1.1);
-            let metal =
-                MetallicRoughnessBsdf::new(f0, 1.0, r).with_model(BrdfModel::Compensated);
+            let metal = MetallicRoughnessBsdf::new(f0, 1.0, r).with_model(BrdfModel::Compensated);
             let (a, se) = albedo_sampled(&metal, wo, 200_000, 3700 + 10 * i as u64 + j as u64);
             let e = ggx_albedo(wo.z, alpha);
             let single = schlick_albedo(e, f0, Vec3::ONE);
-            let f_ms =
-                multiple_scattering_fresnel(schlick_fresnel_average(f0, Vec3::ONE), ggx_albedo_average(alpha).a0);
+            let f_ms = multiple_scattering_fresnel(
+                schlick_fresnel_average(f0, Vec3::ONE),
+                ggx_albedo_average(alpha).a0,
+            );
             let want = single * multiple_scattering_factor(e, f_ms);
             let turquin = single * multiple_scattering_factor(e, f0);
             assert!(
