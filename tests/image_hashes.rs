@@ -80,45 +80,50 @@ fn hash_file(path: &Path) -> u64 {
 /// `glint.brdf` attribute. With `--brdf spec` every PNG above renders the issue-21 bytes
 /// (checked when re-recording; the bvh hashes equal the Embree ones): the spec's model is unchanged.
 ///
-/// Issue 23 re-recorded the progressive renders only: `--target-error` now turns adaptive
+/// Issue 22's second slice re-recorded every hash but the Cameras scene's: coloured metals now
+/// weight the restored multiple scattering by Kulla & Conty's `F_ms` (was `F0`) and the
+/// dielectric base is albedo-scaled by `1 − E_d(n·wo)` (was Kulla & Conty's reciprocal form); both
+/// change the default (compensated) model only; the bvh hashes equal the Embree ones.
+///
+/// Issue 23 re-recorded the progressive renders: `--target-error` now turns adaptive
 /// sampling on, and the EXR gains a uint32 `samples` channel. No pixel is decided before 8
-/// samples and this render stops at 8, so its RGBA is byte for byte the issue-22 one (checked
-/// with `--adaptive 0`, which renders the old file). The other renders here use the direct
-/// integrator (full environment distribution) and no environment map, so the new environment
-/// sampling and MIS compensation do not reach them.
+/// samples and this render stops at 8, so its RGBA is that of the model above (checked
+/// with `--adaptive 0`). The other renders here use the direct integrator (full environment
+/// distribution) and no environment map, so the new environment sampling and MIS
+/// compensation do not reach them.
 const EXPECTED: &[(&str, u64)] = &[
-    ("demo/embree/png", 0xc125fbbe0f6a0770), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("demo/embree/exr", 0x15d6a332aa486de2), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("BoxTextured/embree/png", 0xbbeb7b2e49e0f65f), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("BoxTextured/embree/exr", 0x91b941842723f763), // re-recorded (issue 22): the energy-compensated BRDF is the default
+    ("demo/embree/png", 0x89071de0f6208ed9), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("demo/embree/exr", 0x003c5f6789701f7e), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("BoxTextured/embree/png", 0xe5cd8cc0aa1d410e), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("BoxTextured/embree/exr", 0x4611b7bf86024b97), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("Cameras/embree/png", 0xd796920dbdea40dc), // re-recorded (issue 22): the energy-compensated BRDF is the default
     ("Cameras/embree/exr", 0x5730bd5d2a13edf2), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("Suzanne/embree/png", 0x0f59a67839dda91a), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("Suzanne/embree/exr", 0xeb79ec4febcfd6c3), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("DamagedHelmet/embree/png", 0x66c8c37acca7aba6), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("DamagedHelmet/embree/exr", 0x70e673fceaf81547), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("2CylinderEngine/embree/png", 0x1ed249d8a53e76e9), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("2CylinderEngine/embree/exr", 0x9e0d76b8eef4ca8b), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("demo/embree/partial", 0xc8a3839fbfbeccc5), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("demo/embree/progressive", 0xbbafafb2ec9e339c), // re-recorded (issue 23): adaptive sampling is on with --target-error, so the EXR gains a `samples` channel; RGBA unchanged
-    ("demo/embree/photometric", 0x5c3dd387b7019688), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("batch/embree", 0xdcce0d3a73efbd54), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("demo/bvh/png", 0xc125fbbe0f6a0770), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("demo/bvh/exr", 0x15d6a332aa486de2), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("BoxTextured/bvh/png", 0xbbeb7b2e49e0f65f), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("BoxTextured/bvh/exr", 0x91b941842723f763), // re-recorded (issue 22): the energy-compensated BRDF is the default
+    ("Suzanne/embree/png", 0x2b2233cc0231e22a), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("Suzanne/embree/exr", 0xb13d3549f7983458), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("DamagedHelmet/embree/png", 0x28f4431051e1cf94), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("DamagedHelmet/embree/exr", 0x23abb67b09723173), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("2CylinderEngine/embree/png", 0x3322150c97ae209f), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("2CylinderEngine/embree/exr", 0x703626ea7b0acf33), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("demo/embree/partial", 0xa3e6a6be15ca29bd), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("demo/embree/progressive", 0xfa04f3a7e28abf5e), // re-recorded (issue 23): adaptive sampling is on with --target-error, so the EXR gains a `samples` channel; RGBA unchanged (0x0645465475dcad09 with --adaptive 0)
+    ("demo/embree/photometric", 0xdd6e5ecf38535984), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("batch/embree", 0x778fb7eb17214934), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("demo/bvh/png", 0x89071de0f6208ed9), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("demo/bvh/exr", 0x003c5f6789701f7e), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("BoxTextured/bvh/png", 0xe5cd8cc0aa1d410e), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("BoxTextured/bvh/exr", 0x4611b7bf86024b97), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("Cameras/bvh/png", 0xd796920dbdea40dc), // re-recorded (issue 22): the energy-compensated BRDF is the default
     ("Cameras/bvh/exr", 0x5730bd5d2a13edf2), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("Suzanne/bvh/png", 0x0f59a67839dda91a), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("Suzanne/bvh/exr", 0xeb79ec4febcfd6c3), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("DamagedHelmet/bvh/png", 0x66c8c37acca7aba6), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("DamagedHelmet/bvh/exr", 0x70e673fceaf81547), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("2CylinderEngine/bvh/png", 0x1ed249d8a53e76e9), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("2CylinderEngine/bvh/exr", 0x9e0d76b8eef4ca8b), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("demo/bvh/partial", 0xc8a3839fbfbeccc5), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("demo/bvh/progressive", 0xbbafafb2ec9e339c), // re-recorded (issue 23): adaptive sampling is on with --target-error, so the EXR gains a `samples` channel; RGBA unchanged
-    ("demo/bvh/photometric", 0x5c3dd387b7019688), // re-recorded (issue 22): the energy-compensated BRDF is the default
-    ("batch/bvh", 0xdcce0d3a73efbd54), // re-recorded (issue 22): the energy-compensated BRDF is the default
+    ("Suzanne/bvh/png", 0x2b2233cc0231e22a), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("Suzanne/bvh/exr", 0xb13d3549f7983458), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("DamagedHelmet/bvh/png", 0x28f4431051e1cf94), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("DamagedHelmet/bvh/exr", 0x23abb67b09723173), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("2CylinderEngine/bvh/png", 0x3322150c97ae209f), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("2CylinderEngine/bvh/exr", 0x703626ea7b0acf33), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("demo/bvh/partial", 0xa3e6a6be15ca29bd), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("demo/bvh/progressive", 0xfa04f3a7e28abf5e), // re-recorded (issue 23): adaptive sampling is on with --target-error, so the EXR gains a `samples` channel; RGBA unchanged (0x0645465475dcad09 with --adaptive 0)
+    ("demo/bvh/photometric", 0xdd6e5ecf38535984), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("batch/bvh", 0x778fb7eb17214934), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
 ];
 
 /// A partial EXR's hash over its decoded channels (name and f32 bits) and its glint

@@ -220,12 +220,41 @@ pub fn schlick_albedo_average(a: GgxAlbedoAverage, f0: Vec3, f90: Vec3) -> Vec3 
     f0 * (a.a0 - a.a1) + f90 * a.a1
 }
 
-/// Turquin's factor `1 + c (1/E0 − 1)` on a specular lobe whose Fresnel at normal incidence
-/// is `c`: it restores the energy single scattering loses (for `c = 1` the lobe's albedo is
-/// exactly 1).
+/// The factor `1 + F_ms (1/E0 − 1)` on a single-scatter specular lobe (Turquin's scaling,
+/// with Kulla & Conty's Fresnel weight `F_ms`, see [`multiple_scattering_fresnel`]): it adds
+/// the energy single scattering loses, `1 − E0` of it for a white lobe (`F_ms = 1`, whose
+/// albedo is then exactly 1), less for a coloured one.
 #[inline]
-pub fn multiple_scattering_factor(e: GgxAlbedo, c: Vec3) -> Vec3 {
-    Vec3::ONE + c * (1.0 / e.e0.max(MIN_ALBEDO) - 1.0)
+pub fn multiple_scattering_factor(e: GgxAlbedo, f_ms: Vec3) -> Vec3 {
+    Vec3::ONE + f_ms * (1.0 / e.e0.max(MIN_ALBEDO) - 1.0)
+}
+
+/// Kulla & Conty's Fresnel weight of the multiply scattered light for a lobe whose
+/// cosine-averaged Fresnel is `f_avg` and whose white albedo averages `e_avg = A0(α)`:
+/// light that leaves after `k + 1` bounces between microfacets has met the Fresnel `k + 1`
+/// times and escaped with probability `E_avg` after each, so its share relative to a white
+/// lobe is the geometric series
+///
+/// ```text
+/// F_ms = Σₖ F_avg^(k+1) (1 − E_avg)^k E_avg / Σₖ (1 − E_avg)^k E_avg
+///      = F_avg E_avg / (1 − F_avg (1 − E_avg))
+/// ```
+///
+/// `F_ms = 1` for `F_avg = 1` and `F_ms ≤ F_avg` always: a coloured rough metal is darker and
+/// more saturated than Turquin's `F_ms = f0` makes it. (Cycles' Principled BSDF scales its
+/// lobes by the same term.)
+#[inline]
+pub fn multiple_scattering_fresnel(f_avg: Vec3, e_avg: f32) -> Vec3 {
+    let f = f_avg.clamp(Vec3::ZERO, Vec3::ONE);
+    let e = e_avg.clamp(0.0, 1.0);
+    let denominator = (Vec3::ONE - f * (1.0 - e)).max(Vec3::splat(MIN_ALBEDO));
+    f * e / denominator
+}
+
+/// The cosine average `2 ∫ F(μ) μ dμ = f0 + (f90 − f0)/21` of Schlick's Fresnel.
+#[inline]
+pub fn schlick_fresnel_average(f0: Vec3, f90: Vec3) -> Vec3 {
+    f0 + (f90 - f0) * SCHLICK_WEIGHT_AVERAGE
 }
 
 /// A floor on `E0` before dividing by it: the smallest tabulated `E0` (α = 1, grazing) is
