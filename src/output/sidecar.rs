@@ -17,6 +17,9 @@
 
 use super::instances::InstanceAnnotation;
 use super::{OutputError, write_atomically};
+use crate::render::projection::FilmProjection;
+use crate::scene::Projection;
+use glam::{DMat3, DMat4};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -97,6 +100,146 @@ pub struct CameraRecord {
     pub zfar: Option<f64>,
     /// OpenGL clip-from-camera matrix (glTF camera axes), glTF's formulas.
     pub opengl_projection: Mat4Rows,
+}
+
+fn rows3(m: DMat3) -> Mat3Rows {
+    let t = m.transpose();
+    [t.x_axis.to_array(), t.y_axis.to_array(), t.z_axis.to_array()]
+}
+
+fn rows4(m: DMat4) -> Mat4Rows {
+    let t = m.transpose();
+    [
+        t.x_axis.to_array(),
+        t.y_axis.to_array(),
+        t.z_axis.to_array(),
+        t.w_axis.to_array(),
+    ]
+}
+
+impl CameraRecord {
+    /// The record of the camera `projection` projects with.
+    pub fn of(projection: &FilmProjection) -> Self {
+        let camera = projection.camera();
+        let (znear, zfar) = projection.clip();
+        let (model, yfov, aspect_ratio, xmag, ymag) = match camera.projection {
+            Projection::Perspective { yfov, .. } => (
+                "perspective",
+                Some(f64::from(yfov)),
+                Some(projection.aspect()),
+                None,
+                None,
+            ),
+            Projection::Orthographic { xmag, ymag } => (
+                "orthographic",
+                None,
+                None,
+                Some(f64::from(xmag)),
+                Some(f64::from(ymag)),
+            ),
+        };
+        Self {
+            name: camera.name.clone(),
+            node: camera.node,
+            model: model.into(),
+            k: rows3(projection.k_opencv()),
+            world_to_camera_opencv: rows4(projection.world_to_camera_opencv()),
+            camera_to_world_gltf: rows4(projection.camera_to_world_gltf()),
+            position: projection.origin.to_array(),
+            yfov,
+            aspect_ratio,
+            xmag,
+            ymag,
+            znear,
+            zfar,
+            opengl_projection: rows4(projection.opengl_projection()),
+        }
+    }
+}
+
+impl Sidecar {
+    /// The sidecar of an image `image` (its file name) rendered through `projection` at
+    /// animation time `time` of scene `scene_index`, with the ground-truth `channels` and
+    /// flow step `flow_dt`; no instances yet.
+    pub fn new(
+        image: &str,
+        projection: &FilmProjection,
+        time: Option<f32>,
+        scene_index: Option<usize>,
+        flow_dt: Option<f32>,
+        channels: Vec<String>,
+    ) -> Self {
+        Self {
+            schema: SIDECAR_SCHEMA.into(),
+            schema_version: SIDECAR_SCHEMA_VERSION,
+            image: image.into(),
+            width: projection.size.0,
+            height: projection.size.1,
+            pixel_centers: PIXEL_CENTERS.into(),
+            time,
+            scene_index,
+            camera: CameraRecord::of(projection),
+            flow_dt,
+            channels,
+            instances: Vec::new(),
+        }
+    }
+
+    /// The camera's projection again, from the record (for `glint check-gt`): K, pose and
+    /// size give every film position and depth.
+    pub fn projection(&self) -> SidecarProjection {
+        SidecarProjection::from_record(&self.camera)
+    }
+}
+
+/// The projection a sidecar describes, read back from its matrices: OpenCV intrinsics and
+/// pose, pixel centres at integers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SidecarProjection {
+    /// Whether the camera is orthographic.
+    pub orthographic: bool,
+    /// `K`.
+    pub k: DMat3,
+    /// World to camera (OpenCV axes).
+    pub world_to_camera: DMat4,
+}
+
+impl SidecarProjection {
+    fn from_record(record: &CameraRecord) -> Self {
+        let m3 = |r: &Mat3Rows| DMat3::from_cols_array_2d(r).transpose();
+        let m4 = |r: &Mat4Rows| DMat4::from_cols_array_2d(r).transpose();
+        Self {
+            orthographic: record.model == "orthographic",
+            k: m3(&record.k),
+            world_to_camera: m4(&record.world_to_camera_opencv),
+        }
+    }
+
+    /// The pixel `(u, v)` (centres at integers) and depth of world point `p`; `None` behind
+    /// a perspective camera.
+    pub fn project(&self, p: glam::DVec3) -> Option<(glam::DVec2, f64)> {
+        let c = self.world_to_camera.transform_point3(p);
+        let h = if self.orthographic {
+            self.k * glam::DVec3::new(c.x, c.y, 1.0)
+        } else {
+            if c.z <= 0.0 {
+                return None;
+            }
+            self.k * (c / c.z)
+        };
+        Some((h.truncate(), c.z))
+    }
+
+    /// The world point seen at pixel `(u, v)` (centres at integers) at depth `z`.
+    pub fn unproject(&self, uv: glam::DVec2, z: f64) -> glam::DVec3 {
+        let n = self.k.inverse() * uv.extend(1.0);
+        let c = if self.orthographic {
+            glam::DVec3::new(n.x, n.y, z)
+        } else {
+            n * z
+        };
+        self.world_to_camera.inverse().transform_point3(c)
+    }
 }
 
 /// The sidecar path of an image: `OUT.json` for `OUT.png` / `OUT.exr`.

@@ -15,12 +15,14 @@
 pub mod camera;
 pub mod film;
 pub mod filter;
+pub mod ground_truth;
 pub mod ids;
 pub mod kernel;
 pub mod medium;
 pub mod partial;
 pub mod path;
 pub mod progressive;
+pub mod projection;
 pub mod sampler;
 pub mod scheduler;
 pub mod stats;
