@@ -8,9 +8,10 @@
 //! - **Flow** (with the next frame, `--next`): each pixel's forward flow lands at a film
 //!   position in the next frame, whose `flow_backward` (bilinear over the four pixels
 //!   around it) must bring it back: the error is `|forward + backward|` in pixels. Pixels
-//!   whose four neighbours are not all valid, or whose neighbours' backward flows differ by
-//!   more than [`SMOOTH_FLOW_SPREAD`] pixels (an edge between surfaces moving differently,
-//!   where interpolation means nothing), are left out and counted.
+//!   whose four neighbours are not all valid, or not all on the pixel's own instance (when
+//!   both files have `instance_id`), or whose neighbours' backward flows differ by more than
+//!   [`SMOOTH_FLOW_SPREAD`] pixels (an edge between surfaces moving differently, where
+//!   interpolation means nothing), are left out and counted.
 
 use crate::output::sidecar::{Sidecar, SidecarError, read_sidecar, sidecar_path};
 use glam::{DVec2, DVec3};
@@ -64,12 +65,15 @@ pub struct GroundTruthFile {
     /// The sidecar beside it.
     pub sidecar: Sidecar,
     channels: HashMap<String, Vec<f32>>,
+    /// The `instance_id` channel, if the file has it.
+    instance_ids: Option<Vec<u32>>,
 }
 
 impl GroundTruthFile {
     /// Reads `path` (an EXR written by glint) and its sidecar.
     pub fn read(path: &Path) -> Result<Self, CheckError> {
-        use exr::prelude::{FlatSamples, ReadChannels, ReadLayers};
+        use exr::prelude::FlatSamples;
+        use exr::prelude::traits::*;
         let sidecar = read_sidecar(&sidecar_path(path))?;
         let fail = |message: String| CheckError::Exr {
             path: path.to_path_buf(),
@@ -92,15 +96,23 @@ impl GroundTruthFile {
             });
         }
         let mut channels = HashMap::new();
+        let mut instance_ids = None;
         for channel in &image.layer_data.channel_data.list {
-            if let FlatSamples::F32(samples) = &channel.sample_data {
-                channels.insert(channel.name.to_string(), samples.clone());
+            match &channel.sample_data {
+                FlatSamples::F32(samples) => {
+                    channels.insert(channel.name.to_string(), samples.clone());
+                }
+                FlatSamples::U32(ids) if channel.name.to_string() == "instance_id" => {
+                    instance_ids = Some(ids.clone());
+                }
+                _ => {}
             }
         }
         Ok(Self {
             path: path.to_path_buf(),
             sidecar,
             channels,
+            instance_ids,
         })
     }
 
@@ -195,11 +207,18 @@ pub fn flow_round_trip(
         next.channel("flow_backward.Y", "flow_backward")?,
     );
     let (w, h) = (next.sidecar.width as i64, next.sidecar.height as i64);
-    let back = |x: i64, y: i64| -> Option<DVec2> {
+    let ids = file.instance_ids.as_ref().zip(next.instance_ids.as_ref());
+    // The next frame's backward flow at pixel (x, y), if valid and (with IDs) on `id`.
+    let back = |x: i64, y: i64, id: Option<u32>| -> Option<DVec2> {
         if x < 0 || y < 0 || x >= w || y >= h {
             return None;
         }
         let i = (y * w + x) as usize;
+        if let (Some(id), Some((_, next_ids))) = (id, ids)
+            && next_ids.get(i) != Some(&id)
+        {
+            return None;
+        }
         let v = DVec2::new(f64::from(bx[i]), f64::from(by[i]));
         v.is_finite().then_some(v)
     };
@@ -216,7 +235,13 @@ pub fn flow_round_trip(
         let land = DVec2::new(f64::from(x), f64::from(y)) + forward;
         let (x0, y0) = (land.x.floor() as i64, land.y.floor() as i64);
         let (tx, ty) = (land.x - x0 as f64, land.y - y0 as f64);
-        let corners = [back(x0, y0), back(x0 + 1, y0), back(x0, y0 + 1), back(x0 + 1, y0 + 1)];
+        let id = ids.and_then(|(own, _)| own.get(i).copied());
+        let corners = [
+            back(x0, y0, id),
+            back(x0 + 1, y0, id),
+            back(x0, y0 + 1, id),
+            back(x0 + 1, y0 + 1, id),
+        ];
         let [Some(a), Some(b), Some(c), Some(d)] = corners else {
             result.skipped += 1;
             continue;

@@ -184,7 +184,7 @@ impl Render {
             settings: RenderSettings {
                 spp: 1,
                 threads: self.threads,
-                sampling: PixelSampling::Center,
+                sampling: PixelSampling::PixelCenter,
                 aovs: self.aovs,
                 ..Job::default().settings
             },
@@ -255,7 +255,8 @@ fn z_reprojects_to_position_for_perspective_and_orthographic_cameras() {
         assert_eq!((k[0][2], k[1][2]), (31.5, 23.5), "principal point, centres at integers");
         if camera == 0 {
             let f = f64::from(H) / (2.0 * (YFOV / 2.0).tan());
-            assert!((k[0][0] - f).abs() < 1e-9 && (k[1][1] - f).abs() < 1e-9);
+            // yfov is an f32 in the file.
+            assert!((k[0][0] - f).abs() < 1e-4 * f && (k[1][1] - f).abs() < 1e-4 * f);
             assert_eq!((sidecar.camera.znear, sidecar.camera.zfar), (0.1f32 as f64, Some(100.0)));
         } else {
             assert_eq!(k[0][0], f64::from(W) / (2.0 * ORTHO_MAG.0));
@@ -351,10 +352,14 @@ fn forward_then_backward_flow_returns_to_the_start() {
     let scene = write_scene(dir.path());
     let (now, next) = (dir.path().join("now.exr"), dir.path().join("next.exr"));
     let mut render = Render::new(&scene, &["z", "position", "flow", "flow_backward"]);
+    render.aovs.instance_id = true;
     render.camera = CameraChoice::Index(1);
     render.run(&now);
     render.time = Some(0.4);
     render.run(&next);
+    let wrong = dir.path().join("wrong.exr");
+    render.time = Some(0.5);
+    render.run(&wrong);
     let (a, b) = (
         GroundTruthFile::read(&now).unwrap(),
         GroundTruthFile::read(&next).unwrap(),
@@ -369,10 +374,10 @@ fn forward_then_backward_flow_returns_to_the_start() {
         flow_tolerance: 1e-3,
     };
     glint::cli::check_gt::run(args).unwrap();
-    // A wrong next frame (the same frame again) fails it.
+    // A wrong next frame (one step too far) fails it.
     let args = glint::cli::check_gt::CheckGtArgs {
         output: now.clone(),
-        next: Some(now.clone()),
+        next: Some(wrong),
         tolerance: 1e-4,
         flow_tolerance: 1e-3,
     };
@@ -394,6 +399,7 @@ fn skinned_and_morphing_models_flow_consistently() {
         let dir = tempfile::tempdir().unwrap();
         let (now, next) = (dir.path().join("now.exr"), dir.path().join("next.exr"));
         let mut render = Render::new(&khronos(model), &["z", "position", "flow", "flow_backward"]);
+        render.aovs.instance_id = true;
         // The models have no camera: one framing the first frame, kept for both frames (a
         // default camera would reframe each frame).
         let selection = SceneSelection {
@@ -417,7 +423,9 @@ fn skinned_and_morphing_models_flow_consistently() {
         let largest = flow.pixels.iter().filter(|f| f.is_finite()).map(|f| f.length()).fold(0.0, f32::max);
         assert!(largest > 0.5, "{model}: the deformation must move pixels ({largest} px)");
         let round = gt_check::flow_round_trip(&a, &b).unwrap();
-        assert!(round.largest < 0.05 && round.compared > 100, "{model}: {round:?}");
+        // Bilinear interpolation of the next frame's backward flow is first-order across
+        // the bends between a deforming mesh's triangles: a tenth of a pixel.
+        assert!(round.largest < 0.1 && round.compared > 100, "{model}: {round:?}");
     }
 }
 

@@ -73,6 +73,8 @@ pub struct JobImages {
     pub image: Image<Vec3>,
     /// The selected AOVs.
     pub aovs: Aovs,
+    /// The camera sidecar of the image (also [`JobOutput::sidecar`]).
+    pub sidecar: Sidecar,
 }
 
 /// Runs `job` on `prepared` (which must come from the job's scene and backend): checks the
@@ -226,7 +228,11 @@ fn run_in_scene(
         samples,
         stats,
         note,
-        Some(JobImages { image, aovs }),
+        Some(JobImages {
+            image,
+            aovs,
+            sidecar: sidecar.clone(),
+        }),
         Some(sidecar),
     ))
 }
