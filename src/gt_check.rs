@@ -164,7 +164,7 @@ impl Disagreement {
 /// distance of a valid pixel.
 pub fn reprojection(file: &GroundTruthFile) -> Result<Disagreement, CheckError> {
     let z = file.channel("z", "z")?;
-    let (w, h) = (file.sidecar.width, file.sidecar.height);
+    let w = file.sidecar.width;
     let projection = file.sidecar.projection();
     let camera = DVec3::from_array(file.sidecar.camera.position);
     let position = ["position.X", "position.Y", "position.Z"];
@@ -189,7 +189,6 @@ pub fn reprojection(file: &GroundTruthFile) -> Result<Disagreement, CheckError> 
         let back = projection.unproject(DVec2::new(f64::from(x), f64::from(y)), f64::from(zi));
         result.add((back - p).length() / scale.max(f64::MIN_POSITIVE), (x, y));
     }
-    let _ = h;
     Ok(result)
 }
 
@@ -224,8 +223,8 @@ pub fn flow_round_trip(
     };
     let width = file.sidecar.width as usize;
     let mut result = Disagreement::default();
-    for i in 0..fx.len() {
-        let forward = DVec2::new(f64::from(fx[i]), f64::from(fy[i]));
+    for (i, (&dx, &dy)) in fx.iter().zip(fy).enumerate() {
+        let forward = DVec2::new(f64::from(dx), f64::from(dy));
         if !forward.is_finite() {
             result.skipped += 1;
             continue;

@@ -2,8 +2,8 @@
 
 use super::complete::environment_for;
 use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
-use crate::light::LightUnits;
 use crate::accel::BuildOptions;
+use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
 use crate::output::sidecar::{Sidecar, sidecar_path, write_sidecar};
 use crate::output::{
@@ -15,8 +15,8 @@ use crate::render::{
     Aovs, Image, Progress, RenderError, RenderInputs, RenderSettings, RenderStats, partial,
     progressive, render_film,
 };
-use crate::scene::gltf::SceneSelection;
 use crate::scene::defaults::{self, Completed};
+use crate::scene::gltf::SceneSelection;
 use crate::scene::{Camera, Light};
 use glam::Vec3;
 use std::ops::Range;
@@ -178,12 +178,13 @@ fn run_in_scene(
             (image, aovs, stats, 0..settings.spp, String::new())
         }
     };
-    let projection = FilmProjection::new(camera, settings.width, settings.height).map_err(
-        |reason| RenderError::Camera {
-            name: camera.name.clone(),
-            reason,
-        },
-    )?;
+    let projection =
+        FilmProjection::new(camera, settings.width, settings.height).map_err(|reason| {
+            RenderError::Camera {
+                name: camera.name.clone(),
+                reason,
+            }
+        })?;
     if settings.aovs.any_geometric() {
         geometric_aovs(job, prepared, &projection, &mut aovs)?;
     }

@@ -93,7 +93,10 @@ pub fn write_exr_annotated(
         add_f32("z", z.pixels.clone())?;
     }
     if let Some(position) = &aovs.position {
-        for (axis, name) in ["position.X", "position.Y", "position.Z"].iter().enumerate() {
+        for (axis, name) in ["position.X", "position.Y", "position.Z"]
+            .iter()
+            .enumerate()
+        {
             add_f32(name, position.pixels.iter().map(|p| p[axis]).collect())?;
         }
     }

@@ -209,7 +209,7 @@ fn flow_to(
     }
     // Each valid pixel's film position now and then, its point then, and the ray that
     // checks the point is seen then.
-    let mut candidates: Vec<(usize, DVec2, DVec3, Ray, f64)> = Vec::new();
+    let mut candidates: Vec<(usize, DVec2, Ray, f64)> = Vec::new();
     for (index, (hit, point)) in hits.pixels.iter().zip(points).enumerate() {
         let (Some(hit), Some(point)) = (hit, point) else {
             continue;
@@ -232,23 +232,27 @@ fn flow_to(
             if depth <= 0.0 {
                 continue;
             }
-            (then - other.projection.world_from_camera_cv.z_axis * depth, depth)
+            (
+                then - other.projection.world_from_camera_cv.z_axis * depth,
+                depth,
+            )
         } else {
             (other.projection.origin, to_point.length())
         };
         let dir = (then - origin) / distance;
         let ray = Ray::new(origin.as_vec3(), dir.as_vec3());
-        candidates.push((index, film - now, then, ray, distance));
+        candidates.push((index, film - now, ray, distance));
     }
-    let rays: Vec<Ray> = candidates.iter().map(|c| c.3).collect();
+    let rays: Vec<Ray> = candidates.iter().map(|c| c.2).collect();
     let mut seen = vec![None; rays.len()];
     other
         .accel
         .intersect_many(&rays, &mut seen, Coherence::Incoherent);
-    for ((index, displacement, _, _, distance), seen) in candidates.iter().zip(&seen) {
+    for ((index, displacement, _, distance), seen) in candidates.iter().zip(&seen) {
         let hidden = match (seen, hits.pixels.get(*index).copied().flatten()) {
             (Some(s), Some(h)) => {
-                let same = s.geom_id == h.geom_id && s.instance == h.instance && s.prim_id == h.prim_id;
+                let same =
+                    s.geom_id == h.geom_id && s.instance == h.instance && s.prim_id == h.prim_id;
                 !same && f64::from(s.t) < distance * (1.0 - OCCLUSION_TOLERANCE)
             }
             _ => false,
