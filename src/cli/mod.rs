@@ -29,6 +29,8 @@ pub struct Cli {
 }
 
 /// A subcommand of `glint`.
+// One value per process, parsed once: boxing `render`'s options would save nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(clap::Subcommand)]
 pub enum Command {
     /// Render a glTF scene (or the built-in demo scene) to PNG or EXR.

@@ -8,7 +8,8 @@
 //! convention expects; with it visible, uncovered samples carry the environment instead);
 //! the ID AOVs ([`crate::render::ids`]) as 32-bit unsigned integers `instance_id` and
 //! `material_id`, and the coverage layers as `coverage.id0` … `coverage.id3` (uint32) with
-//! `coverage.fraction0` … `coverage.fraction3` (float); the geometric ground truth
+//! `coverage.fraction0` … `coverage.fraction3` (float); `samples` (uint32), each pixel's sample
+//! count, when adaptive sampling ran; the geometric ground truth
 //! ([`crate::render::ground_truth`]) as floats `z`, `position.X/Y/Z`, `uv.U/V`, `flow.X/Y` and
 //! `flow_backward.X/Y`, NaN where invalid. Exposure is not applied.
 
@@ -124,6 +125,9 @@ pub fn write_exr_annotated(
     }
     if let Some(ids) = &aovs.material_id {
         add_u32("material_id".into(), ids.pixels.clone())?;
+    }
+    if let Some(samples) = &aovs.samples {
+        add_u32("samples".into(), samples.pixels.clone())?;
     }
     if let Some(coverage) = &aovs.coverage {
         for layer in 0..COVERAGE_LAYERS {

@@ -131,6 +131,9 @@ pub struct Aovs {
     pub flow: Option<Image<Vec2>>,
     /// See [`AovSelection::flow_backward`]; NaN where invalid.
     pub flow_backward: Option<Image<Vec2>>,
+    /// Samples each pixel took: present when adaptive sampling ran ([`super::adaptive`]);
+    /// EXR outputs carry it as the uint32 channel `samples`.
+    pub samples: Option<Image<u32>>,
 }
 
 /// Per-pixel sums of one tile's samples, in the tile's row-major order.
