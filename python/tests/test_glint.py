@@ -18,7 +18,10 @@ import pytest
 
 import glint
 
-ALL_AOVS = ["albedo", "normal", "depth", "instance_id", "material_id", "coverage"]
+ALL_AOVS = ["albedo", "normal", "depth", "instance_id", "material_id", "coverage",
+            "z", "position", "uv"]
+# The flows need an animation time (a scene loaded with time=); the demo has none.
+FLOW_AOVS = ["flow", "flow_backward"]
 
 
 def read_exr(path):
@@ -111,14 +114,22 @@ def test_aov_shapes_and_dtypes():
         "material_id": ((17, 33), np.uint32),
         "coverage_ids": ((17, 33, k), np.uint32),
         "coverage": ((17, 33, k), np.float32),
+        "z": ((17, 33), np.float32),
+        "position": ((17, 33, 3), np.float32),
+        "uv": ((17, 33, 2), np.float32),
     }
-    assert set(img) == set(expected)
+    assert set(img) == set(expected) | {"camera"}
     for name, (shape, dtype) in expected.items():
         assert img[name].shape == shape, name
         assert img[name].dtype == dtype, name
-    assert set(glint.AOVS) == set(ALL_AOVS)
-    # Without AOVs: radiance and its coverage alone.
-    assert set(glint.load().render(width=8, height=4, spp=1)) == {"radiance", "alpha"}
+    assert set(glint.AOVS) == set(ALL_AOVS + FLOW_AOVS)
+    # The camera sidecar: OpenCV K with pixel centres at integers.
+    camera = img["camera"]
+    assert (camera["width"], camera["height"]) == (33, 17)
+    assert camera["camera"]["K"][0][2] == pytest.approx(16.0)
+    assert camera["camera"]["K"][1][2] == pytest.approx(8.0)
+    # Without AOVs: radiance, its coverage and the camera record alone.
+    assert set(glint.load().render(width=8, height=4, spp=1)) == {"radiance", "alpha", "camera"}
 
 
 def test_aovs_do_not_change_the_radiance():

@@ -6,6 +6,7 @@
 pub mod batch;
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod check_gt;
 pub mod converge;
 pub mod job_options;
 pub mod merge;
@@ -28,6 +29,8 @@ pub struct Cli {
 }
 
 /// A subcommand of `glint`.
+// One value per process, parsed once: boxing `render`'s options would save nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(clap::Subcommand)]
 pub enum Command {
     /// Render a glTF scene (or the built-in demo scene) to PNG or EXR.
@@ -42,6 +45,9 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Measure error against a reference as samples grow, per backend, sampler and filter.
     Converge(converge::ConvergeArgs),
+    /// Check an output's ground truth (z, position, flow) against its camera sidecar.
+    #[command(name = "check-gt")]
+    CheckGt(check_gt::CheckGtArgs),
 }
 
 impl Command {
@@ -54,6 +60,7 @@ impl Command {
             Command::Batch(args) => batch::run(args),
             Command::Merge(args) => merge::run(args),
             Command::Converge(args) => converge::run(args),
+            Command::CheckGt(args) => check_gt::run(args),
         }
     }
 
@@ -77,6 +84,7 @@ impl Command {
             Command::Converge(args) => {
                 format!("measuring the convergence of {}", scene(&args.scene))
             }
+            Command::CheckGt(args) => format!("checking {}", args.output.display()),
         }
     }
 }
