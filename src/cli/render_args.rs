@@ -96,6 +96,15 @@ pub struct RenderArgs {
         value_name = "albedo,normal,depth,instance_id,material_id,coverage"
     )]
     pub aov: Vec<AovName>,
+    /// Per-instance annotations (visible and amodal masks as COCO RLE, exact areas, visible
+    /// fractions, 2D and 3D boxes) written to OUT.instances.json; costs one any-hit walk per
+    /// camera sample. See docs/ground-truth.md.
+    #[arg(long)]
+    pub annotations: bool,
+    /// A category for the annotations of the instances whose node or mesh is named NAME
+    /// (repeatable; before the node's extras.category and the mesh's name).
+    #[arg(long = "category", value_name = "NAME=CATEGORY", value_parser = parse_category)]
+    pub category: Vec<(String, String)>,
     /// Texture filter, overriding the glTF samplers (for experiments): nearest, bilinear and
     /// bicubic read the full-resolution image only; trilinear and anisotropic use MIP maps and
     /// ray differentials.
@@ -277,7 +286,10 @@ impl RenderArgs {
                 seed: self.seed,
                 max_depth: self.max_depth,
                 threads: self.threads,
-                aovs: aov_selection(&self.aov),
+                aovs: AovSelection {
+                    annotations: self.annotations,
+                    ..aov_selection(&self.aov)
+                },
                 texture_filter: self.texture_filter,
                 filter: self.filter,
                 sampling: self.sampler,
@@ -292,6 +304,7 @@ impl RenderArgs {
                 exposure_ev: self.exposure,
                 png16: self.png16,
             }),
+            categories: self.category.clone(),
         })
     }
 }
@@ -341,5 +354,18 @@ fn aov_selection(names: &[AovName]) -> AovSelection {
         instance_id: names.contains(&AovName::InstanceId),
         material_id: names.contains(&AovName::MaterialId),
         coverage: names.contains(&AovName::Coverage),
+        annotations: false,
+    }
+}
+
+/// `--category NAME=CATEGORY`.
+fn parse_category(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, category)) if !name.is_empty() && !category.is_empty() => {
+            Ok((name.to_string(), category.to_string()))
+        }
+        _ => Err(format!(
+            "'{text}': give NAME=CATEGORY (a node or mesh name, then its category)"
+        )),
     }
 }

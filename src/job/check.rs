@@ -39,6 +39,13 @@ impl Job {
                     .into(),
             );
         }
+        if partial && self.settings.aovs.annotations {
+            return bad(
+                "--annotations are counts over every sample of the image, not sums that merge: \
+                 render them without --sample-range/--shard"
+                    .into(),
+            );
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width and --height must be at least 1".into());
         }

@@ -77,6 +77,10 @@ pub struct Job {
     pub samples: Samples,
     /// Where the image goes; `None` renders without writing.
     pub output: Option<OutputSpec>,
+    /// Categories for per-instance annotations (`--category NAME=CATEGORY`): a node's or
+    /// mesh's name and the category its instances get
+    /// ([`crate::output::instances::annotate`]).
+    pub categories: Vec<(String, String)>,
 }
 
 impl Default for Job {
@@ -99,6 +103,7 @@ impl Default for Job {
             },
             samples: Samples::All,
             output: None,
+            categories: Vec::new(),
         }
     }
 }

@@ -4,6 +4,9 @@ use super::complete::environment_for;
 use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
 use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
+use crate::output::instances::{
+    InstanceAnnotation, InstancesFile, annotate, instances_path, write_instances,
+};
 use crate::output::{
     OutputError, OutputFormat, PngDepth, PngOptions, write_exr_annotated, write_png,
 };
@@ -14,6 +17,7 @@ use crate::render::{
 use crate::scene::defaults::{self, Completed};
 use crate::scene::{Camera, Light};
 use glam::Vec3;
+use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -56,6 +60,9 @@ pub struct JobOutput {
     /// The resolved images, for callers that keep them in memory (the Python package);
     /// `None` for a partial job, whose output is sums, not an image.
     pub images: Option<JobImages>,
+    /// Per-instance annotations, when the job asked for them
+    /// ([`crate::render::AovSelection::annotations`]).
+    pub instances: Option<Vec<InstanceAnnotation>>,
 }
 
 /// Resolved images of a job ([`JobOutput::images`]).
@@ -119,7 +126,7 @@ fn run_in_scene(
     // Test-only (debug builds): a forced panic where the render starts, for tests/panics.rs.
     crate::panics::test_panic_point("render", &prepared.label);
     let output = job.output.as_ref();
-    let done = |samples, stats, note, images| JobOutput {
+    let done = |samples, stats, note, images, instances| JobOutput {
         output: output.map(|o| o.path.clone()),
         width: settings.width,
         height: settings.height,
@@ -127,6 +134,7 @@ fn run_in_scene(
         stats,
         note,
         images,
+        instances,
     };
     if let Some(samples) = job.partial_samples()? {
         let (part, stats) =
@@ -148,7 +156,7 @@ fn run_in_scene(
             crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
-        return Ok(done(samples, stats, note, None));
+        return Ok(done(samples, stats, note, None, None));
     }
     let (image, aovs, stats, samples, note) = match &job.samples {
         Samples::Progressive(rule) => {
@@ -167,7 +175,19 @@ fn run_in_scene(
             (image, aovs, stats, 0..settings.spp, String::new())
         }
     };
+    let instances = aovs.instance_samples.as_ref().map(|counts| {
+        let categories: BTreeMap<String, String> = job.categories.iter().cloned().collect();
+        annotate(&prepared.scene, counts, &categories)
+    });
     if let Some(out) = output {
+        if let Some(instances) = &instances {
+            let file = InstancesFile {
+                width: settings.width,
+                height: settings.height,
+                instances: instances.clone(),
+            };
+            write_instances(&instances_path(&out.path), &file)?;
+        }
         match OutputFormat::from_path(&out.path)? {
             OutputFormat::Png => write_png(
                 &out.path,
@@ -189,7 +209,13 @@ fn run_in_scene(
             ),
         }?;
     }
-    Ok(done(samples, stats, note, Some(JobImages { image, aovs })))
+    Ok(done(
+        samples,
+        stats,
+        note,
+        Some(JobImages { image, aovs }),
+        instances,
+    ))
 }
 
 /// Completes the scene for `job`: its camera (asked for, first, or default), its environment

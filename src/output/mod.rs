@@ -6,8 +6,10 @@
 pub mod atomic;
 pub mod exr;
 pub mod fingerprint;
+pub mod instances;
 pub mod partial;
 pub mod png;
+pub mod rle;
 
 pub use atomic::write_atomically;
 pub use exr::{write_exr, write_exr_annotated};

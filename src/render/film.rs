@@ -4,6 +4,7 @@
 //! `Σ w·L / Σ w` over its own samples only (filter importance sampling: no splats into
 //! neighbours), so the result does not depend on the order tiles finish in.
 
+use super::amodal::InstanceSamples;
 use super::ids::{self, Coverage, PixelCoverage};
 use super::tiles::Tile;
 use glam::Vec3;
@@ -56,6 +57,9 @@ pub struct AovSelection {
     /// Up to [`ids::COVERAGE_LAYERS`] instance IDs per pixel with the fraction of its
     /// samples each covers ([`super::ids`]).
     pub coverage: bool,
+    /// Per-instance sample counts, visible and amodal ([`super::amodal`]), for per-instance
+    /// annotations (masks, areas, boxes): not an image, so allowed with PNG outputs.
+    pub annotations: bool,
 }
 
 impl AovSelection {
@@ -89,6 +93,8 @@ pub struct Aovs {
     pub material_id: Option<Image<u32>>,
     /// See [`AovSelection::coverage`].
     pub coverage: Option<Coverage>,
+    /// See [`AovSelection::annotations`].
+    pub instance_samples: Option<InstanceSamples>,
 }
 
 /// Per-pixel sums of one tile's samples, in the tile's row-major order.
@@ -123,8 +129,10 @@ pub struct TileSums {
     pub instance_id: Vec<u32>,
     /// Centre-ray material IDs, as `instance_id`.
     pub material_id: Vec<u32>,
-    /// Per-pixel sample counts per instance ID, if coverage is selected.
+    /// Per-pixel sample counts per instance ID, if coverage or annotations are selected.
     pub coverage: Vec<PixelCoverage>,
+    /// Per-pixel sample counts of every instance the rays pierce, if annotations are selected.
+    pub amodal: Vec<PixelCoverage>,
 }
 
 impl TileSums {
@@ -143,7 +151,8 @@ impl TileSums {
             alpha: vec![0.0; pixels],
             instance_id: Vec::new(),
             material_id: Vec::new(),
-            coverage: vec![PixelCoverage::new(); sized(aovs.coverage)],
+            coverage: vec![PixelCoverage::new(); sized(aovs.coverage || aovs.annotations)],
+            amodal: vec![PixelCoverage::new(); sized(aovs.annotations)],
         }
     }
 
@@ -181,6 +190,8 @@ pub struct Film {
     instance_id: Option<Image<u32>>,
     material_id: Option<Image<u32>>,
     coverage: Option<Vec<PixelCoverage>>,
+    amodal: Option<Vec<PixelCoverage>>,
+    selection: AovSelection,
 }
 
 /// Floor of the relative-error denominator, as a fraction of the image's mean luminance:
@@ -206,9 +217,12 @@ impl Film {
             material_id: aovs
                 .material_id
                 .then(|| Image::filled(width, height, ids::NO_ID)),
-            coverage: aovs
-                .coverage
+            coverage: (aovs.coverage || aovs.annotations)
                 .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
+            amodal: aovs
+                .annotations
+                .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
+            selection: aovs,
         }
     }
 
@@ -259,16 +273,22 @@ impl Film {
         if let Some(image) = &mut self.material_id {
             set(image, tile, &sums.material_id);
         }
-        if let Some(coverage) = &mut self.coverage {
-            let width = self.radiance_even.width as usize;
-            for (local, counts) in sums.coverage.iter().enumerate().take(tile.pixel_count()) {
+        fn add_counts(image: &mut [PixelCoverage], width: u32, tile: &Tile, src: &[PixelCoverage]) {
+            for (local, counts) in src.iter().enumerate().take(tile.pixel_count()) {
                 let (x, y) = tile.pixel(local);
-                if let Some(dst) = coverage.get_mut(y as usize * width + x as usize) {
+                if let Some(dst) = image.get_mut(y as usize * width as usize + x as usize) {
                     for &(id, n) in counts {
                         ids::count(dst, id, n);
                     }
                 }
             }
+        }
+        let width = self.radiance_even.width;
+        if let Some(coverage) = &mut self.coverage {
+            add_counts(coverage, width, tile, &sums.coverage);
+        }
+        if let Some(amodal) = &mut self.amodal {
+            add_counts(amodal, width, tile, &sums.amodal);
         }
     }
 
@@ -417,7 +437,17 @@ impl Film {
                 coverage: self
                     .coverage
                     .as_ref()
+                    .filter(|_| self.selection.coverage)
                     .map(|counts| ids::resolve(width, height, counts)),
+                instance_samples: match (&self.coverage, &self.amodal) {
+                    (Some(visible), Some(amodal)) => Some(InstanceSamples {
+                        width,
+                        height,
+                        visible: visible.clone(),
+                        amodal: amodal.clone(),
+                    }),
+                    _ => None,
+                },
             },
         )
     }

@@ -12,6 +12,7 @@
 //!
 //! Tiles render in parallel on a dedicated rayon pool of [`RenderSettings::threads`] threads.
 
+pub mod amodal;
 pub mod camera;
 pub mod film;
 pub mod filter;

@@ -155,6 +155,7 @@ pub(crate) fn render_tile(
             let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, batch, &mut counts);
             if primary {
                 super::ids::record_coverage(ctx, &mut sums, &s.hits);
+                super::amodal::record_amodal(ctx, &mut sums, &s.rays, &s.hits, batch);
             }
             s.next_rays.clear();
             s.next_paths.clear();
