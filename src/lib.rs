@@ -14,6 +14,7 @@ pub mod cli;
 pub mod color;
 pub mod converge;
 pub mod geometry;
+pub mod gt_check;
 pub mod job;
 pub mod light;
 pub mod material;

@@ -16,9 +16,13 @@ COVERAGE_LAYERS: int
 """K, the number of objects the ``coverage`` AOV lists per pixel (4)."""
 
 AOVS: List[str]
-"""The AOV names ``aovs=`` accepts: albedo, normal, depth, instance_id, material_id, coverage."""
+"""The AOV names ``aovs=`` accepts: albedo, normal, depth, instance_id, material_id, coverage,
+z, position, uv, flow, flow_backward."""
 
-AovName = Literal["albedo", "normal", "depth", "instance_id", "material_id", "coverage"]
+AovName = Literal[
+    "albedo", "normal", "depth", "instance_id", "material_id", "coverage",
+    "z", "position", "uv", "flow", "flow_backward",
+]
 PathLike = Union[str, "os.PathLike[str]"]
 
 class GlintError(Exception):
@@ -106,6 +110,8 @@ class Scene:
         target_error: Optional[float] = None,
         max_spp: int = 65536,
         output: Optional[PathLike] = None,
+        sidecar: bool = False,
+        flow_dt: Optional[float] = None,
     ) -> Dict[str, npt.NDArray[np.generic]]:
         """Renders the scene; the arguments and defaults are ``glint render``'s.
 
@@ -114,7 +120,11 @@ class Scene:
         AOV asked for,
         ``albedo``/``normal`` (float32 H×W×3), ``depth`` (float32 H×W), ``instance_id`` and
         ``material_id`` (uint32 H×W), ``coverage_ids`` (uint32 H×W×K) with ``coverage``
-        (float32 H×W×K). ``output`` also writes the image (.png or .exr, with the AOVs).
+        (float32 H×W×K), ``z`` (float32 H×W), ``position`` (float32 H×W×3), ``uv``, ``flow``
+        and ``flow_backward`` (float32 H×W×2; NaN where invalid; docs/ground-truth.md).
+        ``camera`` is the camera sidecar as a dict (K, poses, projection, time). ``output``
+        also writes the image (.png or .exr, with the AOVs), and with ``sidecar=True`` its
+        sidecar OUT.json beside it. Flow needs a scene loaded with ``time=``.
 
         Raises GlintError (glint's message) for a bad camera index, light spec, environment or
         option; ValueError/TypeError for arguments of the wrong kind; KeyboardInterrupt on

@@ -7,7 +7,7 @@ rendered any other way (``glint render --annotations``, or several batches)::
     coco = from_annotations(["out/a.png", "out/b.png"], "out/dataset.json")
     write(coco, "out/dataset.json")
 
-Each image's annotations are read from ``IMAGE.instances.json`` beside it. See
+Each image's annotations are read from its camera sidecar ``IMAGE.json`` (its ``instances``). See
 docs/ground-truth.md for the fields.
 """
 
@@ -19,16 +19,17 @@ from pathlib import Path
 from typing import Iterable
 
 
-def instances_path(image: str | os.PathLike) -> Path:
-    """The annotation file of an image: ``OUT.instances.json`` for ``OUT.png``."""
-    return Path(image).with_suffix(".instances.json")
+def sidecar_path(image: str | os.PathLike) -> Path:
+    """The camera sidecar of an image, which holds its annotations: ``OUT.json`` for
+    ``OUT.png``."""
+    return Path(image).with_suffix(".json")
 
 
 def from_annotations(images: Iterable[str | os.PathLike], coco_path: str | os.PathLike) -> dict:
     """The COCO document of ``images`` (in order), with file names relative to the folder of
     ``coco_path`` where they lie inside it."""
     images = [Path(i) for i in images]
-    files = [json.loads(instances_path(i).read_text()) for i in images]
+    files = [json.loads(sidecar_path(i).read_text()) for i in images]
     names = sorted({inst["category"] for f in files for inst in f["instances"]})
     category_id = {name: k + 1 for k, name in enumerate(names)}
     folder = Path(coco_path).parent.resolve()

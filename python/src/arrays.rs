@@ -63,6 +63,27 @@ pub fn images_to_dict<'py>(py: Python<'py>, images: &JobImages) -> PyResult<Boun
     if let Some(ids) = &aovs.material_id {
         dict.set_item("material_id", plane(py, ids)?)?;
     }
+    if let Some(z) = &aovs.z {
+        dict.set_item("z", plane(py, z)?)?;
+    }
+    if let Some(position) = &aovs.position {
+        dict.set_item("position", planes(py, position, rgb)?)?;
+    }
+    let pair = |v: glam::Vec2| v.to_array();
+    for (key, image) in [
+        ("uv", &aovs.uv),
+        ("flow", &aovs.flow),
+        ("flow_backward", &aovs.flow_backward),
+    ] {
+        if let Some(image) = image {
+            dict.set_item(key, planes(py, image, pair)?)?;
+        }
+    }
+    // The camera sidecar as a dict, through Python's json module (the record is plain JSON).
+    let text = serde_json::to_string(&images.sidecar)
+        .map_err(|e| crate::glint_error(format!("camera record: {e}")))?;
+    let camera = py.import("json")?.call_method1("loads", (text,))?;
+    dict.set_item("camera", camera)?;
     if let Some(coverage) = &aovs.coverage {
         let same = |p: [u32; COVERAGE_LAYERS]| p;
         dict.set_item("coverage_ids", planes(py, &coverage.ids, same)?)?;

@@ -18,17 +18,24 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 /// The AOV names `aovs=` accepts, as the command line's `--aov` spells them.
-pub const AOV_NAMES: [&str; 6] = [
+pub const AOV_NAMES: [&str; 11] = [
     "albedo",
     "normal",
     "depth",
     "instance_id",
     "material_id",
     "coverage",
+    "z",
+    "position",
+    "uv",
+    "flow",
+    "flow_backward",
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 23] = [
+pub const RENDER_KEYS: [&str; 25] = [
+    "sidecar",
+    "flow_dt",
     "width",
     "height",
     "spp",
@@ -145,6 +152,7 @@ pub fn job_from_kwargs(
     } else {
         Samples::All
     };
+    let sidecar = get::<bool>(kwargs, "sidecar")?.unwrap_or(false);
     Ok(Job {
         scene: source,
         backend,
@@ -174,8 +182,10 @@ pub fn job_from_kwargs(
         samples,
         output: get::<PathBuf>(kwargs, "output")?.map(|path| OutputSpec {
             path,
+            sidecar,
             ..OutputSpec::default()
         }),
+        flow_dt: get(kwargs, "flow_dt")?,
         ..defaults
     })
 }
@@ -191,6 +201,11 @@ fn aov_selection(names: &[String]) -> PyResult<AovSelection> {
             "instance_id" => &mut aovs.instance_id,
             "material_id" => &mut aovs.material_id,
             "coverage" => &mut aovs.coverage,
+            "z" => &mut aovs.z,
+            "position" => &mut aovs.position,
+            "uv" => &mut aovs.uv,
+            "flow" => &mut aovs.flow,
+            "flow_backward" => &mut aovs.flow_backward,
             other => {
                 return Err(PyValueError::new_err(format!(
                     "aovs: unknown AOV {other:?}; the AOVs are {}",

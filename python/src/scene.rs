@@ -21,6 +21,11 @@ pub struct Scene {
     pub(crate) prepared: Arc<PreparedScene>,
     pub(crate) source: SceneSource,
     pub(crate) backend: BackendKind,
+    /// The scene index and animation time it was loaded at, and how: a render's jobs carry
+    /// them (the flow AOVs load the scene again at neighbouring times; the sidecar records
+    /// the time).
+    pub(crate) selection: SceneSelection,
+    pub(crate) load_options: LoadOptions,
     /// The render pool, kept between renders so that a loop of renders does not start
     /// threads each time: (threads asked for, pool).
     pool: Mutex<Option<(usize, Arc<rayon::ThreadPool>)>>,
@@ -133,6 +138,8 @@ pub fn load(
         prepared: Arc::new(prepared),
         source,
         backend,
+        selection,
+        load_options: options,
         pool: Mutex::new(None),
     })
 }
@@ -230,7 +237,9 @@ impl Scene {
         py: Python<'py>,
         kwargs: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let job = options::job_from_kwargs(kwargs, self.source.clone(), self.backend, &[])?;
+        let mut job = options::job_from_kwargs(kwargs, self.source.clone(), self.backend, &[])?;
+        job.selection = self.selection;
+        job.load_options = self.load_options.clone();
         let pool = self.pool_for(job.settings.threads)?;
         let prepared = &*self.prepared;
         let doing = format!("rendering {}", self.source.label());

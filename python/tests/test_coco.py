@@ -45,7 +45,7 @@ def test_the_batch_coco_file_loads_and_matches_the_annotation_files(batch):
     assert len(coco.getImgIds()) == 3
     assert {c["name"] for c in coco.loadCats(coco.getCatIds())} == {"A", "B"}
     for image in coco.loadImgs(coco.getImgIds()):
-        annotated = json.loads((out / image["file_name"]).with_suffix(".instances.json").read_text())
+        annotated = json.loads((out / image["file_name"]).with_suffix(".json").read_text())
         by_id = {inst["id"]: inst for inst in annotated["instances"]}
         anns = coco.loadAnns(coco.getAnnIds(imgIds=[image["id"]]))
         assert len(anns) == 2
@@ -69,7 +69,7 @@ def test_the_batch_coco_file_loads_and_matches_the_annotation_files(batch):
 
 def test_rle_round_trips_through_pycocotools(batch):
     out, coco_path = batch
-    for f in sorted(out.glob("*.instances.json")):
+    for f in sorted(out.glob("img*.json")):
         for inst in json.loads(f.read_text())["instances"]:
             for region in (inst["visible"], inst["amodal"]):
                 rle = dict(region["mask"])

@@ -11,11 +11,11 @@
 //!   `iscrowd` 0, and the extras `amodal_segmentation`, `amodal_bbox`, `amodal_area`,
 //!   `visible_fraction` and `instance_id` (the glTF node).
 //!
-//! Annotations are read back from the files the jobs wrote, so a resumed batch (whose
+//! Annotations are read back from the camera sidecars (`OUT.json`) the jobs wrote, so a resumed batch (whose
 //! skipped jobs were rendered by an earlier run) gathers them all the same.
 
 use crate::output::OutputError;
-use crate::output::instances::{InstancesFile, instances_path};
+use crate::output::sidecar::{Sidecar, read_sidecar, sidecar_path};
 use crate::output::rle::Rle;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 pub enum CocoError {
     /// A job's annotation file is missing or unreadable.
     #[error(
-        "{path}: cannot read the annotations ({message}); render the job with --annotations \
+        "{path}: cannot read the sidecar's annotations ({message}); render the job with --annotations \
          (glint batch --coco turns it on; add --force to re-render outputs from earlier runs)"
     )]
     Read {
@@ -118,15 +118,10 @@ pub struct CocoAnnotation {
 /// Gathers the annotations of the images `images` (in order) into one COCO file to be written
 /// at `coco_path` (whose folder the image paths are made relative to).
 pub fn gather(images: &[PathBuf], coco_path: &Path) -> Result<Coco, CocoError> {
-    let mut files = Vec::with_capacity(images.len());
+    let mut files: Vec<(&PathBuf, Sidecar)> = Vec::with_capacity(images.len());
     for image in images {
-        let path = instances_path(image);
-        let read = std::fs::read_to_string(&path)
-            .map_err(|e| e.to_string())
-            .and_then(|text| {
-                serde_json::from_str::<InstancesFile>(&text).map_err(|e| e.to_string())
-            });
-        match read {
+        let path = sidecar_path(image);
+        match read_sidecar(&path).map_err(|e| e.to_string()) {
             Ok(file) => files.push((image, file)),
             Err(message) => return Err(CocoError::Read { path, message }),
         }

@@ -383,7 +383,7 @@ pub fn output_is_complete(job: &Job) -> bool {
     }
     // Annotations asked for are part of the output.
     if job.render.settings.aovs.annotations
-        && !crate::output::instances::instances_path(path).is_file()
+        && !crate::output::sidecar::sidecar_path(path).is_file()
     {
         return false;
     }

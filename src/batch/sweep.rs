@@ -146,7 +146,11 @@ fn frame_dimension(table: &Table) -> Result<Option<Dimension>, String> {
             .collect(),
         (None, Some(times)) => times
             .into_iter()
-            .map(|(frame, time)| (vec![("time".to_string(), time)], frame.to_string()))
+            .map(|(frame, time)| {
+                let mut values = vec![("time".to_string(), time)];
+                values.extend(frame_interval(table));
+                (values, frame.to_string())
+            })
             .collect(),
         (Some(cameras), Some(times)) => {
             if cameras.len() != times.len() {
@@ -162,7 +166,10 @@ fn frame_dimension(table: &Table) -> Result<Option<Dimension>, String> {
                 .zip(times)
                 .map(|(camera, (frame, time))| {
                     (
-                        vec![("camera".to_string(), camera), ("time".to_string(), time)],
+                        [("camera".to_string(), camera), ("time".to_string(), time)]
+                            .into_iter()
+                            .chain(frame_interval(table))
+                            .collect(),
                         frame.to_string(),
                     )
                 })
@@ -329,6 +336,20 @@ impl Sweep {
             .join(", ");
         Ok(Variant { table, label })
     }
+}
+
+/// The `flow-dt` an animation sweep gives each job: one frame, `1 / fps` seconds, unless the
+/// sweep sets `flow-dt` itself.
+fn frame_interval(table: &Table) -> Option<(String, Value)> {
+    if table.contains_key("flow-dt") || table.contains_key("flow_dt") {
+        return None;
+    }
+    let fps = match table.get("fps")? {
+        Value::Integer(f) => *f as f64,
+        Value::Float(f) => *f,
+        _ => return None,
+    };
+    Some(("flow-dt".to_string(), Value::Float(1.0 / fps)))
 }
 
 /// The frames of `frames` and `fps`, as (frame number, `time` value), if the sweep has them.

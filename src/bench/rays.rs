@@ -103,6 +103,9 @@ pub fn framing_camera(bounds: &Bounds, points: impl IntoIterator<Item = Vec3>) -
     let world_from_camera = Mat4::from_translation(towards_eye * distance) * at_centre;
     Camera {
         name: "framing camera".into(),
+        node: None,
+        znear: None,
+        zfar: None,
         world_from_camera,
         projection: Projection::Perspective {
             yfov: FRAMING_YFOV_RAD,
@@ -260,6 +263,9 @@ mod tests {
     fn orthographic_rays_are_parallel_and_span_the_view() {
         let camera = Camera {
             name: "ortho".into(),
+            node: None,
+            znear: None,
+            zfar: None,
             world_from_camera: Mat4::from_translation(vec3(0.0, 0.0, 5.0)),
             projection: Projection::Orthographic {
                 xmag: 2.0,

@@ -6,6 +6,7 @@
 pub mod batch;
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod check_gt;
 pub mod converge;
 pub mod job_options;
 pub mod merge;
@@ -42,6 +43,9 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Measure error against a reference as samples grow, per backend, sampler and filter.
     Converge(converge::ConvergeArgs),
+    /// Check an output's ground truth (z, position, flow) against its camera sidecar.
+    #[command(name = "check-gt")]
+    CheckGt(check_gt::CheckGtArgs),
 }
 
 impl Command {
@@ -54,6 +58,7 @@ impl Command {
             Command::Batch(args) => batch::run(args),
             Command::Merge(args) => merge::run(args),
             Command::Converge(args) => converge::run(args),
+            Command::CheckGt(args) => check_gt::run(args),
         }
     }
 
@@ -77,6 +82,7 @@ impl Command {
             Command::Converge(args) => {
                 format!("measuring the convergence of {}", scene(&args.scene))
             }
+            Command::CheckGt(args) => format!("checking {}", args.output.display()),
         }
     }
 }

@@ -33,6 +33,17 @@ pub enum AovName {
     MaterialId,
     /// Up to 4 instance IDs per pixel with the fraction of its samples each covers.
     Coverage,
+    /// Depth along the optical axis at the pixel centre (docs/ground-truth.md).
+    Z,
+    /// World-space position at the pixel centre.
+    Position,
+    /// TEXCOORD_0 at the pixel centre.
+    Uv,
+    /// Optical flow to --time + --flow-dt, pixels (x right, y down).
+    Flow,
+    /// Optical flow to --time − --flow-dt.
+    #[value(name = "flow_backward", alias = "flow-backward")]
+    FlowBackward,
 }
 
 /// Arguments of `glint render`.
@@ -93,11 +104,19 @@ pub struct RenderArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        value_name = "albedo,normal,depth,instance_id,material_id,coverage"
+        value_name = "albedo,normal,depth,instance_id,material_id,coverage,z,position,uv,flow,flow_backward"
     )]
     pub aov: Vec<AovName>,
+    /// Write the camera sidecar OUT.json beside the image: intrinsics, pose, projection,
+    /// time (docs/ground-truth.md).
+    #[arg(long)]
+    pub sidecar: bool,
+    /// Time step of the flow AOVs in seconds: flow goes to --time + DT, flow_backward to
+    /// --time − DT [default: 1/24; in a batch animation sweep, the frame interval].
+    #[arg(long, value_name = "DT")]
+    pub flow_dt: Option<f32>,
     /// Per-instance annotations (visible and amodal masks as COCO RLE, exact areas, visible
-    /// fractions, 2D and 3D boxes) written to OUT.instances.json; costs one any-hit walk per
+    /// fractions, 2D and 3D boxes) in the camera sidecar OUT.json (written with them); costs one any-hit walk per
     /// camera sample. See docs/ground-truth.md.
     #[arg(long)]
     pub annotations: bool,
@@ -303,7 +322,9 @@ impl RenderArgs {
                 path: output_path(self),
                 exposure_ev: self.exposure,
                 png16: self.png16,
+                sidecar: self.sidecar,
             }),
+            flow_dt: self.flow_dt,
             categories: self.category.clone(),
         })
     }
@@ -354,6 +375,11 @@ fn aov_selection(names: &[AovName]) -> AovSelection {
         instance_id: names.contains(&AovName::InstanceId),
         material_id: names.contains(&AovName::MaterialId),
         coverage: names.contains(&AovName::Coverage),
+        z: names.contains(&AovName::Z),
+        position: names.contains(&AovName::Position),
+        uv: names.contains(&AovName::Uv),
+        flow: names.contains(&AovName::Flow),
+        flow_backward: names.contains(&AovName::FlowBackward),
         annotations: false,
     }
 }

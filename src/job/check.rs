@@ -39,6 +39,26 @@ impl Job {
                     .into(),
             );
         }
+        if partial && self.settings.aovs.any_geometric() {
+            return bad(
+                "--aov z, position, uv, flow and flow_backward are whole-image results: render \
+                 them without --sample-range/--shard"
+                    .into(),
+            );
+        }
+        let flows = self.settings.aovs.flow || self.settings.aovs.flow_backward;
+        if flows && self.selection.time.is_none() {
+            return bad(
+                "--aov flow/flow_backward need an animation time: give --time SECONDS (flow \
+                 goes to time ± --flow-dt)"
+                    .into(),
+            );
+        }
+        if let Some(dt) = self.flow_dt
+            && !(dt > 0.0 && dt.is_finite())
+        {
+            return bad(format!("--flow-dt {dt}: give a positive number of seconds"));
+        }
         if partial && self.settings.aovs.annotations {
             return bad(
                 "--annotations are counts over every sample of the image, not sums that merge: \
@@ -68,6 +88,12 @@ impl Job {
         if format == OutputFormat::Png && self.settings.aovs.any() {
             return bad(format!(
                 "{path}: --aov needs an EXR output (AOVs are linear data); use -o NAME.exr"
+            ));
+        }
+        if out.sidecar && partial {
+            return bad(format!(
+                "{path}: --sidecar describes a finished image, not a partial render's sums: \
+                 render the whole image with --sidecar"
             ));
         }
         if format == OutputFormat::Png && partial {

@@ -77,11 +77,18 @@ pub struct Job {
     pub samples: Samples,
     /// Where the image goes; `None` renders without writing.
     pub output: Option<OutputSpec>,
+    /// The flow AOVs' time step Δ in seconds (`--flow-dt`; `glint batch` sets it to the
+    /// frame interval of an animation sweep): `flow` goes to `time + Δ`, `flow_backward` to
+    /// `time − Δ`. `None`: [`DEFAULT_FLOW_DT`].
+    pub flow_dt: Option<f32>,
     /// Categories for per-instance annotations (`--category NAME=CATEGORY`): a node's or
     /// mesh's name and the category its instances get
     /// ([`crate::output::instances::annotate`]).
     pub categories: Vec<(String, String)>,
 }
+
+/// The flow AOVs' time step when none is given: one frame at 24 frames per second.
+pub const DEFAULT_FLOW_DT: f32 = 1.0 / 24.0;
 
 impl Default for Job {
     fn default() -> Self {
@@ -103,6 +110,7 @@ impl Default for Job {
             },
             samples: Samples::All,
             output: None,
+            flow_dt: None,
             categories: Vec::new(),
         }
     }

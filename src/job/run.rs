@@ -3,17 +3,20 @@
 use super::complete::environment_for;
 use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
 use crate::light::LightUnits;
+use crate::accel::BuildOptions;
 use crate::output::fingerprint::SceneTag;
-use crate::output::instances::{
-    InstanceAnnotation, InstancesFile, annotate, instances_path, write_instances,
-};
+use crate::output::sidecar::{Sidecar, sidecar_path, write_sidecar};
+use crate::output::instances::annotate;
 use crate::output::{
     OutputError, OutputFormat, PngDepth, PngOptions, write_exr_annotated, write_png,
 };
+use crate::render::ground_truth::{self, OtherTime};
+use crate::render::projection::FilmProjection;
 use crate::render::{
-    Aovs, Image, Progress, RenderInputs, RenderSettings, RenderStats, partial, progressive,
-    render_film,
+    Aovs, Image, Progress, RenderError, RenderInputs, RenderSettings, RenderStats, partial,
+    progressive, render_film,
 };
+use crate::scene::gltf::SceneSelection;
 use crate::scene::defaults::{self, Completed};
 use crate::scene::{Camera, Light};
 use glam::Vec3;
@@ -60,9 +63,9 @@ pub struct JobOutput {
     /// The resolved images, for callers that keep them in memory (the Python package);
     /// `None` for a partial job, whose output is sums, not an image.
     pub images: Option<JobImages>,
-    /// Per-instance annotations, when the job asked for them
-    /// ([`crate::render::AovSelection::annotations`]).
-    pub instances: Option<Vec<InstanceAnnotation>>,
+    /// What the camera sidecar says about the image (written beside it with
+    /// [`super::OutputSpec::sidecar`]); `None` for a partial job.
+    pub sidecar: Option<Sidecar>,
 }
 
 /// Resolved images of a job ([`JobOutput::images`]).
@@ -72,6 +75,8 @@ pub struct JobImages {
     pub image: Image<Vec3>,
     /// The selected AOVs.
     pub aovs: Aovs,
+    /// The camera sidecar of the image (also [`JobOutput::sidecar`]).
+    pub sidecar: Sidecar,
 }
 
 /// Runs `job` on `prepared` (which must come from the job's scene and backend): checks the
@@ -126,7 +131,7 @@ fn run_in_scene(
     // Test-only (debug builds): a forced panic where the render starts, for tests/panics.rs.
     crate::panics::test_panic_point("render", &prepared.label);
     let output = job.output.as_ref();
-    let done = |samples, stats, note, images, instances| JobOutput {
+    let done = |samples, stats, note, images, sidecar| JobOutput {
         output: output.map(|o| o.path.clone()),
         width: settings.width,
         height: settings.height,
@@ -134,7 +139,7 @@ fn run_in_scene(
         stats,
         note,
         images,
-        instances,
+        sidecar,
     };
     if let Some(samples) = job.partial_samples()? {
         let (part, stats) =
@@ -158,7 +163,7 @@ fn run_in_scene(
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
         return Ok(done(samples, stats, note, None, None));
     }
-    let (image, aovs, stats, samples, note) = match &job.samples {
+    let (image, mut aovs, stats, samples, note) = match &job.samples {
         Samples::Progressive(rule) => {
             let p =
                 progressive::render_progressive_with(&inputs, settings, rule, options.progress)?;
@@ -175,19 +180,33 @@ fn run_in_scene(
             (image, aovs, stats, 0..settings.spp, String::new())
         }
     };
-    let instances = aovs.instance_samples.as_ref().map(|counts| {
+    let projection = FilmProjection::new(camera, settings.width, settings.height).map_err(
+        |reason| RenderError::Camera {
+            name: camera.name.clone(),
+            reason,
+        },
+    )?;
+    if settings.aovs.any_geometric() {
+        geometric_aovs(job, prepared, &projection, &mut aovs)?;
+    }
+    let flows = settings.aovs.flow || settings.aovs.flow_backward;
+    let image_name = output
+        .and_then(|o| o.path.file_name())
+        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    let mut sidecar = Sidecar::new(
+        &image_name,
+        &projection,
+        job.selection.time,
+        job.selection.scene,
+        flows.then(|| job.flow_dt.unwrap_or(super::DEFAULT_FLOW_DT)),
+        ground_truth_channels(&aovs),
+    );
+    // Per-instance annotations go into the sidecar, which they make written.
+    if let Some(counts) = &aovs.instance_samples {
         let categories: BTreeMap<String, String> = job.categories.iter().cloned().collect();
-        annotate(&prepared.scene, counts, &categories)
-    });
+        sidecar.instances = annotate(&prepared.scene, counts, &categories);
+    }
     if let Some(out) = output {
-        if let Some(instances) = &instances {
-            let file = InstancesFile {
-                width: settings.width,
-                height: settings.height,
-                instances: instances.clone(),
-            };
-            write_instances(&instances_path(&out.path), &file)?;
-        }
         match OutputFormat::from_path(&out.path)? {
             OutputFormat::Png => write_png(
                 &out.path,
@@ -208,14 +227,109 @@ fn run_in_scene(
                 &[("glint.brdf", settings.brdf.name())],
             ),
         }?;
+        if out.sidecar || settings.aovs.annotations {
+            write_sidecar(&sidecar_path(&out.path), &sidecar)?;
+        }
     }
     Ok(done(
         samples,
         stats,
         note,
-        Some(JobImages { image, aovs }),
-        instances,
+        Some(JobImages {
+            image,
+            aovs,
+            sidecar: sidecar.clone(),
+        }),
+        Some(sidecar),
     ))
+}
+
+/// The EXR channels of the geometric AOVs `aovs` holds, for the sidecar.
+fn ground_truth_channels(aovs: &Aovs) -> Vec<String> {
+    let mut names = Vec::new();
+    let mut add = |present: bool, list: &[&str]| {
+        if present {
+            names.extend(list.iter().map(|s| s.to_string()));
+        }
+    };
+    add(aovs.z.is_some(), &["z"]);
+    add(
+        aovs.position.is_some(),
+        &["position.X", "position.Y", "position.Z"],
+    );
+    add(aovs.uv.is_some(), &["uv.U", "uv.V"]);
+    add(aovs.flow.is_some(), &["flow.X", "flow.Y"]);
+    add(
+        aovs.flow_backward.is_some(),
+        &["flow_backward.X", "flow_backward.Y"],
+    );
+    names
+}
+
+/// Fills the geometric AOVs ([`ground_truth`]) from the render's centre hits, loading the
+/// scene at `time ± Δ` (its own ray queries, for occlusion) for the flows selected. The
+/// camera there is the job's camera choice in that scene (a camera glint made or was given
+/// stays where it is).
+fn geometric_aovs(
+    job: &Job,
+    prepared: &PreparedScene,
+    projection: &FilmProjection,
+    aovs: &mut Aovs,
+) -> Result<(), JobError> {
+    let selection = job.settings.aovs.geometric();
+    let dt = job.flow_dt.unwrap_or(super::DEFAULT_FLOW_DT);
+    let other = |sign: f32, wanted: bool| -> Result<Option<Posed>, JobError> {
+        let Some(time) = job.selection.time.filter(|_| wanted) else {
+            return Ok(None);
+        };
+        let at = SceneSelection {
+            time: Some(time + sign * dt),
+            ..job.selection
+        };
+        let scene = job.scene.load_with(&at, &job.load_options)?;
+        let accel = crate::render::prepare(&scene, job.backend, BuildOptions::default())?;
+        let camera = if prepared.scene.cameras.is_empty() {
+            projection.camera().clone()
+        } else {
+            job.camera(&scene)?.value
+        };
+        let (w, h) = projection.size;
+        let moved = FilmProjection::new(&camera, w, h).map_err(|reason| RenderError::Camera {
+            name: camera.name.clone(),
+            reason,
+        })?;
+        Ok(Some(Posed {
+            scene,
+            accel,
+            projection: moved,
+        }))
+    };
+    let forward = other(1.0, selection.flow)?;
+    let backward = other(-1.0, selection.flow_backward)?;
+    fn view(p: &Option<Posed>) -> Option<OtherTime<'_>> {
+        p.as_ref().map(|p| OtherTime {
+            scene: &p.scene,
+            accel: p.accel.as_ref(),
+            projection: &p.projection,
+        })
+    }
+    let (forward, backward) = (view(&forward), view(&backward));
+    ground_truth::resolve(
+        aovs,
+        selection,
+        &prepared.scene,
+        projection,
+        forward.as_ref(),
+        backward.as_ref(),
+    );
+    Ok(())
+}
+
+/// The scene posed at another time, owned, for [`OtherTime`].
+struct Posed {
+    scene: crate::scene::Scene,
+    accel: Box<dyn crate::accel::Accel>,
+    projection: FilmProjection,
 }
 
 /// Completes the scene for `job`: its camera (asked for, first, or default), its environment

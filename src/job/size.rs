@@ -38,6 +38,9 @@ mod tests {
     fn camera(projection: Projection) -> Camera {
         Camera {
             name: "c".into(),
+            node: None,
+            znear: None,
+            zfar: None,
             world_from_camera: Mat4::IDENTITY,
             projection,
         }

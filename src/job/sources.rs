@@ -105,4 +105,7 @@ pub struct OutputSpec {
     pub exposure_ev: f32,
     /// 16 bits per channel in PNG output.
     pub png16: bool,
+    /// Write the camera sidecar `OUT.json` beside the image (`--sidecar`;
+    /// [`crate::output::sidecar`]).
+    pub sidecar: bool,
 }

@@ -8,7 +8,9 @@
 //! convention expects; with it visible, uncovered samples carry the environment instead);
 //! the ID AOVs ([`crate::render::ids`]) as 32-bit unsigned integers `instance_id` and
 //! `material_id`, and the coverage layers as `coverage.id0` … `coverage.id3` (uint32) with
-//! `coverage.fraction0` … `coverage.fraction3` (float). Exposure is not applied.
+//! `coverage.fraction0` … `coverage.fraction3` (float); the geometric ground truth
+//! ([`crate::render::ground_truth`]) as floats `z`, `position.X/Y/Z`, `uv.U/V`, `flow.X/Y` and
+//! `flow_backward.X/Y`, NaN where invalid. Exposure is not applied.
 
 use super::{OutputError, write_atomically};
 use crate::render::ids::COVERAGE_LAYERS;
@@ -17,7 +19,7 @@ use exr::meta::attribute::{AttributeValue, Text};
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes, SmallVec, WritableImage,
 };
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// Writes `image` and the AOVs present in `aovs` to `path`, atomically.
 pub fn write_exr(
@@ -79,6 +81,33 @@ pub fn write_exr_annotated(
             return Err(encode_error("alpha has the wrong size".into()));
         }
         channels.push(AnyChannel::new("A", FlatSamples::F32(alpha.pixels.clone())));
+    }
+    let mut add_f32 = |name: &str, pixels: Vec<f32>| -> Result<(), OutputError> {
+        if pixels.len() != pixel_count {
+            return Err(encode_error(format!("channel {name} has the wrong size")));
+        }
+        channels.push(AnyChannel::new(name, FlatSamples::F32(pixels)));
+        Ok(())
+    };
+    if let Some(z) = &aovs.z {
+        add_f32("z", z.pixels.clone())?;
+    }
+    if let Some(position) = &aovs.position {
+        for (axis, name) in ["position.X", "position.Y", "position.Z"].iter().enumerate() {
+            add_f32(name, position.pixels.iter().map(|p| p[axis]).collect())?;
+        }
+    }
+    let pairs: [(&Option<Image<Vec2>>, [&str; 2]); 3] = [
+        (&aovs.uv, ["uv.U", "uv.V"]),
+        (&aovs.flow, ["flow.X", "flow.Y"]),
+        (&aovs.flow_backward, ["flow_backward.X", "flow_backward.Y"]),
+    ];
+    for (image, names) in pairs {
+        if let Some(image) = image {
+            for (axis, name) in names.iter().enumerate() {
+                add_f32(name, image.pixels.iter().map(|p| p[axis]).collect())?;
+            }
+        }
     }
     let mut add_u32 = |name: String, pixels: Vec<u32>| -> Result<(), OutputError> {
         if pixels.len() != pixel_count {

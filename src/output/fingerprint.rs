@@ -217,6 +217,9 @@ mod tests {
     fn camera(x: f32) -> Camera {
         Camera {
             name: "c".into(),
+            node: None,
+            znear: None,
+            zfar: None,
             world_from_camera: Mat4::from_translation(glam::Vec3::new(x, 0.0, 0.0)),
             projection: Projection::Perspective {
                 yfov: 0.8,

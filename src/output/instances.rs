@@ -1,4 +1,5 @@
-//! Per-instance annotations of a render, as the camera sidecar carries them: one entry per
+//! Per-instance annotations of a render, as the camera sidecar ([`super::sidecar`], its
+//! `instances`) carries them: one entry per
 //! instance (a glTF node that draws a mesh; a mesh several nodes share is one instance per
 //! node; the copies of one EXT_mesh_gpu_instancing node share its node and so its entry) that
 //! some camera sample's ray meets.
@@ -273,41 +274,3 @@ fn box_3d(lo: Vec3, hi: Vec3, world_from_node: Mat4) -> Box3d {
     }
 }
 
-/// The annotation file of an image, until the camera sidecar carries the annotations:
-/// `OUT.instances.json` beside `OUT.png` / `OUT.exr`.
-pub fn instances_path(image: &std::path::Path) -> std::path::PathBuf {
-    image.with_extension("instances.json")
-}
-
-/// What an annotation file holds: the image's size and its instances.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct InstancesFile {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// The annotations, by increasing ID.
-    pub instances: Vec<InstanceAnnotation>,
-}
-
-/// Writes `file` as JSON to `path`, atomically.
-pub fn write_instances(
-    path: &std::path::Path,
-    file: &InstancesFile,
-) -> Result<(), super::OutputError> {
-    use std::io::Write;
-    let text = serde_json::to_string(file).map_err(|e| super::OutputError::Encode {
-        path: path.to_path_buf(),
-        format: "JSON",
-        message: e.to_string(),
-    })?;
-    super::write_atomically(path, |writer| {
-        writer
-            .write_all(text.as_bytes())
-            .and_then(|()| writer.write_all(b"\n"))
-            .map_err(|source| super::OutputError::Io {
-                path: path.to_path_buf(),
-                source,
-            })
-    })
-}

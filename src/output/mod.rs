@@ -10,10 +10,12 @@ pub mod instances;
 pub mod partial;
 pub mod png;
 pub mod rle;
+pub mod sidecar;
 
 pub use atomic::write_atomically;
 pub use exr::{write_exr, write_exr_annotated};
 pub use png::{PngDepth, PngOptions, write_png};
+pub use sidecar::{Sidecar, read_sidecar, sidecar_path, write_sidecar};
 
 use std::path::{Path, PathBuf};
 

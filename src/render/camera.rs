@@ -151,6 +151,9 @@ mod tests {
     fn perspective(yfov: f32, aspect: Option<f32>) -> Camera {
         Camera {
             name: "test".into(),
+            node: None,
+            znear: None,
+            zfar: None,
             world_from_camera: Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0)),
             projection: Projection::Perspective {
                 yfov,
@@ -180,6 +183,9 @@ mod tests {
     fn orthographic_rays_are_parallel() {
         let camera = Camera {
             name: "ortho".into(),
+            node: None,
+            znear: None,
+            zfar: None,
             world_from_camera: Mat4::IDENTITY,
             projection: Projection::Orthographic {
                 xmag: 2.0,

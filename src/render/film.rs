@@ -4,10 +4,12 @@
 //! `Σ w·L / Σ w` over its own samples only (filter importance sampling: no splats into
 //! neighbours), so the result does not depend on the order tiles finish in.
 
+use super::ground_truth::GeometricSelection;
 use super::amodal::InstanceSamples;
 use super::ids::{self, Coverage, PixelCoverage};
 use super::tiles::Tile;
-use glam::Vec3;
+use crate::accel::Hit;
+use glam::{Vec2, Vec3};
 
 /// A row-major image, top row first.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,6 +59,17 @@ pub struct AovSelection {
     /// Up to [`ids::COVERAGE_LAYERS`] instance IDs per pixel with the fraction of its
     /// samples each covers ([`super::ids`]).
     pub coverage: bool,
+    /// Depth along the optical axis at the pixel centre's first hit
+    /// ([`super::ground_truth`]).
+    pub z: bool,
+    /// World-space point of the pixel centre's first hit.
+    pub position: bool,
+    /// TEXCOORD_0 at the pixel centre's first hit.
+    pub uv: bool,
+    /// Optical flow to `t + Δ`, pixels.
+    pub flow: bool,
+    /// Optical flow to `t − Δ`, pixels.
+    pub flow_backward: bool,
     /// Per-instance sample counts, visible and amodal ([`super::amodal`]), for per-instance
     /// annotations (masks, areas, boxes): not an image, so allowed with PNG outputs.
     pub annotations: bool,
@@ -65,7 +78,23 @@ pub struct AovSelection {
 impl AovSelection {
     /// Whether any AOV is selected.
     pub fn any(&self) -> bool {
-        self.albedo || self.normal || self.depth || self.any_ids()
+        self.albedo || self.normal || self.depth || self.any_ids() || self.any_geometric()
+    }
+
+    /// Whether any of the geometric AOVs ([`super::ground_truth`]) is selected.
+    pub fn any_geometric(&self) -> bool {
+        self.z || self.position || self.uv || self.flow || self.flow_backward
+    }
+
+    /// The geometric AOVs selected.
+    pub fn geometric(&self) -> GeometricSelection {
+        GeometricSelection {
+            z: self.z,
+            position: self.position,
+            uv: self.uv,
+            flow: self.flow,
+            flow_backward: self.flow_backward,
+        }
     }
 
     /// Whether any of the ID AOVs ([`super::ids`]) is selected.
@@ -93,6 +122,19 @@ pub struct Aovs {
     pub material_id: Option<Image<u32>>,
     /// See [`AovSelection::coverage`].
     pub coverage: Option<Coverage>,
+    /// The first hit of each pixel centre's ray (`None`: a miss), kept when a geometric AOV
+    /// is selected; [`super::ground_truth::resolve`] turns it into the images below.
+    pub centre_hits: Option<Image<Option<Hit>>>,
+    /// See [`AovSelection::z`]; NaN where invalid (see [`super::ground_truth`]).
+    pub z: Option<Image<f32>>,
+    /// See [`AovSelection::position`]; NaN where invalid.
+    pub position: Option<Image<Vec3>>,
+    /// See [`AovSelection::uv`]; NaN where invalid.
+    pub uv: Option<Image<Vec2>>,
+    /// See [`AovSelection::flow`]; NaN where invalid.
+    pub flow: Option<Image<Vec2>>,
+    /// See [`AovSelection::flow_backward`]; NaN where invalid.
+    pub flow_backward: Option<Image<Vec2>>,
     /// See [`AovSelection::annotations`].
     pub instance_samples: Option<InstanceSamples>,
 }
@@ -131,6 +173,9 @@ pub struct TileSums {
     pub material_id: Vec<u32>,
     /// Per-pixel sample counts per instance ID, if coverage or annotations are selected.
     pub coverage: Vec<PixelCoverage>,
+    /// Centre-ray first hits: filled by the first pass only, when a geometric AOV is
+    /// selected (empty otherwise).
+    pub centre_hits: Vec<Option<Hit>>,
     /// Per-pixel sample counts of every instance the rays pierce, if annotations are selected.
     pub amodal: Vec<PixelCoverage>,
 }
@@ -151,6 +196,7 @@ impl TileSums {
             alpha: vec![0.0; pixels],
             instance_id: Vec::new(),
             material_id: Vec::new(),
+            centre_hits: Vec::new(),
             coverage: vec![PixelCoverage::new(); sized(aovs.coverage || aovs.annotations)],
             amodal: vec![PixelCoverage::new(); sized(aovs.annotations)],
         }
@@ -190,6 +236,7 @@ pub struct Film {
     instance_id: Option<Image<u32>>,
     material_id: Option<Image<u32>>,
     coverage: Option<Vec<PixelCoverage>>,
+    centre_hits: Option<Image<Option<Hit>>>,
     amodal: Option<Vec<PixelCoverage>>,
     selection: AovSelection,
 }
@@ -219,6 +266,9 @@ impl Film {
                 .then(|| Image::filled(width, height, ids::NO_ID)),
             coverage: (aovs.coverage || aovs.annotations)
                 .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
+            centre_hits: aovs
+                .any_geometric()
+                .then(|| Image::filled(width, height, None)),
             amodal: aovs
                 .annotations
                 .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
@@ -272,6 +322,15 @@ impl Film {
         }
         if let Some(image) = &mut self.material_id {
             set(image, tile, &sums.material_id);
+        }
+        if let Some(image) = &mut self.centre_hits {
+            let width = image.width as usize;
+            for (local, &hit) in sums.centre_hits.iter().enumerate().take(tile.pixel_count()) {
+                let (x, y) = tile.pixel(local);
+                if let Some(dst) = image.pixels.get_mut(y as usize * width + x as usize) {
+                    *dst = hit;
+                }
+            }
         }
         fn add_counts(image: &mut [PixelCoverage], width: u32, tile: &Tile, src: &[PixelCoverage]) {
             for (local, counts) in src.iter().enumerate().take(tile.pixel_count()) {
@@ -439,6 +498,7 @@ impl Film {
                     .as_ref()
                     .filter(|_| self.selection.coverage)
                     .map(|counts| ids::resolve(width, height, counts)),
+                centre_hits: self.centre_hits.clone(),
                 instance_samples: match (&self.coverage, &self.amodal) {
                     (Some(visible), Some(amodal)) => Some(InstanceSamples {
                         width,
@@ -448,6 +508,7 @@ impl Film {
                     }),
                     _ => None,
                 },
+                ..Aovs::default()
             },
         )
     }

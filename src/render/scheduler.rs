@@ -182,7 +182,9 @@ impl<'a> TileScheduler<'a> {
             texture_texels,
             brdf: settings.brdf,
             cancel,
-            ids_pending: settings.aovs.instance_id || settings.aovs.material_id,
+            ids_pending: settings.aovs.instance_id
+                || settings.aovs.material_id
+                || settings.aovs.any_geometric(),
         })
     }
 
@@ -239,6 +241,9 @@ impl<'a> TileScheduler<'a> {
                     if trace_ids {
                         let (sums, counts) = &mut result;
                         ids::trace_centre_ids(ctx, ctx.aovs, tile, sums, counts);
+                        if ctx.aovs.any_geometric() {
+                            super::ground_truth::trace_centre_hits(ctx, tile, sums, counts);
+                        }
                     }
                     let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
                     if let Some(report) = progress {

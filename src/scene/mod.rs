@@ -343,11 +343,23 @@ pub struct Texture {
 pub struct Camera {
     /// Name, for messages.
     pub name: String,
+    /// The glTF node index holding the camera; `None` for a camera made in code.
+    pub node: Option<u32>,
+    /// glTF `znear`: the near clip distance, scene units; `None` for a camera made in code
+    /// ([`DEFAULT_ZNEAR`] then stands in where a near plane is needed). Rays start at the
+    /// camera regardless: the planes only enter the camera sidecar's OpenGL projection.
+    pub znear: Option<f32>,
+    /// glTF `zfar`: the far clip distance; `None`: infinite (a perspective camera without
+    /// `zfar`, or a camera made in code).
+    pub zfar: Option<f32>,
     /// Camera-to-world transform (rigid; the camera looks down its −Z with +Y up, as in glTF).
     pub world_from_camera: Mat4,
     /// The projection.
     pub projection: Projection,
 }
+
+/// The near clip distance of a camera without one (made in code), scene units.
+pub const DEFAULT_ZNEAR: f32 = 0.01;
 
 impl Camera {
     /// A perspective camera at `eye` looking at `target`, with `up` appearing up in the image:
@@ -370,6 +382,9 @@ impl Camera {
         let true_up = right.cross(forward);
         Self {
             name: name.to_string(),
+            node: None,
+            znear: None,
+            zfar: None,
             world_from_camera: Mat4::from_cols(
                 right.extend(0.0),
                 true_up.extend(0.0),

@@ -44,6 +44,15 @@ pub fn camera(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Came
         back.extend(0.0),
         world.w_axis.truncate().extend(1.0),
     );
+    let (znear, zfar) = match camera.projection() {
+        ::gltf::camera::Projection::Perspective(p) => (p.znear(), p.zfar()),
+        ::gltf::camera::Projection::Orthographic(o) => (o.znear(), Some(o.zfar())),
+    };
+    if !(znear.is_finite() && znear >= 0.0 && zfar.is_none_or(|f| f.is_finite() && f > znear)) {
+        return Err(fail(format!(
+            "znear {znear} and zfar {zfar:?} must be finite with 0 ≤ znear < zfar"
+        )));
+    }
     let projection = match camera.projection() {
         ::gltf::camera::Projection::Perspective(p) => {
             let yfov = p.yfov();
@@ -72,6 +81,9 @@ pub fn camera(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Came
     };
     Ok(Some(Camera {
         name: camera.name().map_or(what.clone(), str::to_string),
+        node: u32::try_from(placed.node.index()).ok(),
+        znear: Some(znear),
+        zfar,
         world_from_camera,
         projection,
     }))
