@@ -54,7 +54,10 @@ fn annotations(
     s: &RenderSettings,
 ) -> (InstanceSamples, Vec<InstanceAnnotation>) {
     let out = render_with(scene, camera, backend, s);
-    let samples = out.aovs.instance_samples.expect("annotations were selected");
+    let samples = out
+        .aovs
+        .instance_samples
+        .expect("annotations were selected");
     let list = annotate(scene, &samples, &BTreeMap::new());
     (samples, list)
 }
@@ -85,15 +88,31 @@ fn the_half_hidden_square_is_half_visible_with_exact_boxes() {
             "{backend}: visible fraction {}",
             back.visible_fraction
         );
-        assert!((back.amodal.area - 1024.0).abs() <= 1.0, "{backend}: {}", back.amodal.area);
-        assert_eq!(back.amodal.bbox, Some([16.0, 16.0, 32.0, 32.0]), "{backend}");
-        assert_eq!(back.visible.bbox, Some([32.0, 16.0, 16.0, 32.0]), "{backend}");
+        assert!(
+            (back.amodal.area - 1024.0).abs() <= 1.0,
+            "{backend}: {}",
+            back.amodal.area
+        );
+        assert_eq!(
+            back.amodal.bbox,
+            Some([16.0, 16.0, 32.0, 32.0]),
+            "{backend}"
+        );
+        assert_eq!(
+            back.visible.bbox,
+            Some([32.0, 16.0, 16.0, 32.0]),
+            "{backend}"
+        );
         assert_eq!(back.amodal.mask_pixels, 32 * 32, "{backend}");
         assert_eq!(back.visible.mask_pixels, 16 * 32, "{backend}");
         // Nothing hides the front square: its amodal silhouette is what is seen.
         assert_eq!(front.visible.mask, front.amodal.mask, "{backend}");
         assert_eq!(front.visible_fraction, 1.0, "{backend}");
-        assert_eq!(front.visible.bbox, Some([0.0, 16.0, 32.0, 32.0]), "{backend}");
+        assert_eq!(
+            front.visible.bbox,
+            Some([0.0, 16.0, 32.0, 32.0]),
+            "{backend}"
+        );
     }
 }
 
@@ -249,7 +268,9 @@ fn every_hit_along_a_ray_on_both_backends() {
 #[test]
 fn nodes_sharing_a_mesh_are_separate_instances_with_categories() {
     // One quad in the xy plane, drawn by nodes 0 and 1 side by side.
-    let positions: [f32; 12] = [-0.4, -0.4, 0.0, 0.4, -0.4, 0.0, 0.4, 0.4, 0.0, -0.4, 0.4, 0.0];
+    let positions: [f32; 12] = [
+        -0.4, -0.4, 0.0, 0.4, -0.4, 0.0, 0.4, 0.4, 0.0, -0.4, 0.4, 0.0,
+    ];
     let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
     let mut bytes: Vec<u8> = positions.iter().flat_map(|f| f.to_le_bytes()).collect();
     bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
@@ -295,13 +316,26 @@ fn nodes_sharing_a_mesh_are_separate_instances_with_categories() {
         assert_eq!(right.category, "special");
         // Each covers 0.8 × 0.8 of a 2 × 2 view of 64 × 64 pixels: 25.6² pixels.
         for a in [left, right] {
-            assert!((a.visible.area - 25.6 * 25.6).abs() < 2.0 * 25.6, "{}", a.visible.area);
+            assert!(
+                (a.visible.area - 25.6 * 25.6).abs() < 2.0 * 25.6,
+                "{}",
+                a.visible.area
+            );
             assert_eq!(a.visible_fraction, 1.0);
             // The node-frame box is the quad; its world corners are shifted by ±0.5.
             // (Through world space and back: f32 rounding.)
-            let close = |a: [f64; 3], b: [f64; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-6);
-            assert!(close(a.box_3d.object_min, [-0.4, -0.4, 0.0]), "{:?}", a.box_3d.object_min);
-            assert!(close(a.box_3d.object_max, [0.4, 0.4, 0.0]), "{:?}", a.box_3d.object_max);
+            let close =
+                |a: [f64; 3], b: [f64; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-6);
+            assert!(
+                close(a.box_3d.object_min, [-0.4, -0.4, 0.0]),
+                "{:?}",
+                a.box_3d.object_min
+            );
+            assert!(
+                close(a.box_3d.object_max, [0.4, 0.4, 0.0]),
+                "{:?}",
+                a.box_3d.object_max
+            );
             let shift = if a.id == 0 { -0.5 } else { 0.5 };
             let x0 = a.box_3d.world_corners[0][0];
             assert!((x0 - (shift - 0.4)).abs() < 1e-6, "{x0}");

@@ -15,8 +15,8 @@
 //! skipped jobs were rendered by an earlier run) gathers them all the same.
 
 use crate::output::OutputError;
-use crate::output::sidecar::{Sidecar, read_sidecar, sidecar_path};
 use crate::output::rle::Rle;
+use crate::output::sidecar::{Sidecar, read_sidecar, sidecar_path};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

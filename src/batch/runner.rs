@@ -382,8 +382,7 @@ pub fn output_is_complete(job: &Job) -> bool {
         return false;
     }
     // Annotations asked for are part of the output.
-    if job.render.settings.aovs.annotations
-        && !crate::output::sidecar::sidecar_path(path).is_file()
+    if job.render.settings.aovs.annotations && !crate::output::sidecar::sidecar_path(path).is_file()
     {
         return false;
     }

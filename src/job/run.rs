@@ -2,11 +2,11 @@
 
 use super::complete::environment_for;
 use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
-use crate::light::LightUnits;
 use crate::accel::BuildOptions;
+use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
-use crate::output::sidecar::{Sidecar, sidecar_path, write_sidecar};
 use crate::output::instances::annotate;
+use crate::output::sidecar::{Sidecar, sidecar_path, write_sidecar};
 use crate::output::{
     OutputError, OutputFormat, PngDepth, PngOptions, write_exr_annotated, write_png,
 };
@@ -16,8 +16,8 @@ use crate::render::{
     Aovs, Image, Progress, RenderError, RenderInputs, RenderSettings, RenderStats, partial,
     progressive, render_film,
 };
-use crate::scene::gltf::SceneSelection;
 use crate::scene::defaults::{self, Completed};
+use crate::scene::gltf::SceneSelection;
 use crate::scene::{Camera, Light};
 use glam::Vec3;
 use std::collections::BTreeMap;
@@ -180,12 +180,13 @@ fn run_in_scene(
             (image, aovs, stats, 0..settings.spp, String::new())
         }
     };
-    let projection = FilmProjection::new(camera, settings.width, settings.height).map_err(
-        |reason| RenderError::Camera {
-            name: camera.name.clone(),
-            reason,
-        },
-    )?;
+    let projection =
+        FilmProjection::new(camera, settings.width, settings.height).map_err(|reason| {
+            RenderError::Camera {
+                name: camera.name.clone(),
+                reason,
+            }
+        })?;
     if settings.aovs.any_geometric() {
         geometric_aovs(job, prepared, &projection, &mut aovs)?;
     }

@@ -207,7 +207,12 @@ fn region(width: u32, height: u32, area: f64, pixels: &[u64]) -> Region {
             y0 = y0.min(y);
             y1 = y1.max(y);
         }
-        [x0 as f64, y0 as f64, (x1 + 1 - x0) as f64, (y1 + 1 - y0) as f64]
+        [
+            x0 as f64,
+            y0 as f64,
+            (x1 + 1 - x0) as f64,
+            (y1 + 1 - y0) as f64,
+        ]
     });
     Region {
         area,
@@ -262,8 +267,15 @@ fn geometry_of<T>(scene: &Scene, wanted: &BTreeMap<u32, T>) -> BTreeMap<u32, Geo
 fn box_3d(lo: Vec3, hi: Vec3, world_from_node: Mat4) -> Box3d {
     let corner = |k: usize| {
         let pick = |bit: usize, a: f32, b: f32| if k & bit != 0 { b } else { a };
-        let local = Vec3::new(pick(1, lo.x, hi.x), pick(2, lo.y, hi.y), pick(4, lo.z, hi.z));
-        world_from_node.transform_point3(local).as_dvec3().to_array()
+        let local = Vec3::new(
+            pick(1, lo.x, hi.x),
+            pick(2, lo.y, hi.y),
+            pick(4, lo.z, hi.z),
+        );
+        world_from_node
+            .transform_point3(local)
+            .as_dvec3()
+            .to_array()
     };
     let rows = world_from_node.transpose().to_cols_array_2d();
     Box3d {
@@ -273,4 +285,3 @@ fn box_3d(lo: Vec3, hi: Vec3, world_from_node: Mat4) -> Box3d {
         world_corners: std::array::from_fn(corner),
     }
 }
-

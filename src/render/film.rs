@@ -4,8 +4,8 @@
 //! `Σ w·L / Σ w` over its own samples only (filter importance sampling: no splats into
 //! neighbours), so the result does not depend on the order tiles finish in.
 
-use super::ground_truth::GeometricSelection;
 use super::amodal::InstanceSamples;
+use super::ground_truth::GeometricSelection;
 use super::ids::{self, Coverage, PixelCoverage};
 use super::tiles::Tile;
 use crate::accel::Hit;
