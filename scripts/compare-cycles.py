@@ -28,6 +28,12 @@ Usage (from the repository root; the venv needs bpy, numpy, OpenEXR):
 
 `run` appends one CSV row per render to OUT/runs.csv and skips renders whose row exists, so it
 can be interrupted and resumed. `table` prints the Markdown tables of docs/speed.md.
+
+Variants (issue 23): `--variant LABEL=RENDERER:ARGS` adds a renderer row under LABEL, rendered by
+`cycles` or `glint` with the extra ARGS (split on spaces), e.g.
+`--variant cycles-adaptive=cycles:--adaptive 0.01` (Blender's default adaptive sampling) or
+`--variant glint-adaptive=glint:--adaptive 0.01`. Name them in `--renderers`. The equal-error
+table compares every glint label with every Cycles label.
 """
 
 import argparse
@@ -84,22 +90,22 @@ def timed(cmd):
     return p.stdout, p.stderr, wall, user + sys_
 
 
-def render_cycles(args, model, spp, seed, image):
+def render_cycles(args, model, spp, seed, image, extra=()):
     cmd = [args.python, os.path.join(SHARED, "peers/cycles_render.py"), MODELS[model], image,
            "--materials", "native", "--env", os.path.join(SHARED, "env/studio.exr"),
            "--env-strength", "1", "--bounces", "8", "--animation", "off",
            "--width", str(args.width), "--height", str(args.width), "--spp", str(spp),
-           "--threads", str(args.threads), "--seed", str(seed)]
+           "--threads", str(args.threads), "--seed", str(seed)] + list(extra)
     out, _, wall, cpu = timed(cmd)
     info = json.loads(out.strip().splitlines()[-1])
     return wall, cpu, info["render_s"]
 
 
-def render_glint(args, model, spp, seed, image, width, height):
+def render_glint(args, model, spp, seed, image, width, height, extra=()):
     cmd = [args.glint, "render", MODELS[model], "-o", image, "--threads", str(args.threads),
            "--env", os.path.join(SHARED, "env/studio.exr"), "--max-depth", "8",
            "--integrator", "path", "--filter", "box", "--spp", str(spp), "--seed", str(seed),
-           "--width", str(width), "--height", str(height)]
+           "--width", str(width), "--height", str(height)] + list(extra)
     _, err, wall, cpu = timed(cmd)
     m = re.search(r"rendered in ([0-9.]+) s", err)
     if not m:
@@ -126,20 +132,23 @@ def run(args):
             w.writeheader()
         for model in args.models:
             for renderer in args.renderers:
-                spps = args.cycles_spp if renderer == "cycles" else args.glint_spp
+                spps = (args.cycles_spp if variant(args, renderer)[0] == "cycles"
+                        else args.glint_spp)
                 for spp in spps:
                     for seed in range(args.seeds):
                         if (model, renderer, str(spp), str(seed)) in done:
                             continue
                         image = os.path.join(args.out, f"{model}-{renderer}-{spp}-{seed}.exr")
-                        if renderer == "cycles":
-                            wall, cpu, render_s = render_cycles(args, model, spp, seed, image)
+                        base, extra = variant(args, renderer)
+                        if base == "cycles":
+                            wall, cpu, render_s = render_cycles(args, model, spp, seed, image,
+                                                                extra)
                         else:
                             size = cycles_size(args.out, model)
                             if size is None:
                                 sys.exit(f"{model}: render Cycles first (its image gives the size)")
                             wall, cpu, render_s = render_glint(args, model, spp, seed, image,
-                                                               *size)
+                                                               *size, extra)
                         h, wdt = read_rgb(image).shape[:2]
                         row = dict(model=model, renderer=renderer, spp=spp, seed=seed, width=wdt,
                                    height=h, wall_s=wall, cpu_s=cpu, render_s=render_s,
@@ -149,9 +158,25 @@ def run(args):
                         print(json.dumps(row), file=sys.stderr)
 
 
+def variant(args, label):
+    """(base renderer, extra arguments) of a renderer label: `cycles`, `glint`, or a --variant."""
+    for v in args.variant:
+        name, _, rest = v.partition("=")
+        base, _, extra = rest.partition(":")
+        if name == label:
+            return base, extra.split()
+    return label, []
+
+
+def labels_of(res, base):
+    """The renderer labels of `res` rendered by `base` (cycles or glint), base first."""
+    found = sorted({k[1] for k in res if k[1].startswith(base)})
+    return sorted(found, key=lambda x: (x != base, x))
+
+
 def cycles_size(out, model):
     for r in load_rows(out):
-        if r["model"] == model and r["renderer"] == "cycles":
+        if r["model"] == model and r["renderer"].startswith("cycles"):
             return int(r["width"]), int(r["height"])
     return None
 
@@ -181,8 +206,11 @@ def measure(rows):
             a, b = read_rgb(rs[0]["image"]), read_rgb(rs[1]["image"])
             var = (a - b) ** 2 / 2
             rel = float(np.mean(var / (ref ** 2 + REL_MSE_EPSILON)))
+            m = (a + b) / 2
+            rel_self = float(np.mean(var / (m ** 2 + REL_MSE_EPSILON)))
             med = lambda k: float(np.median([float(r[k]) for r in rs]))  # noqa: E731
-            points.append(dict(spp=spp, rel_mse=rel, wall=med("wall_s"), cpu=med("cpu_s"),
+            points.append(dict(spp=spp, rel_mse=rel, rel_mse_self=rel_self, wall=med("wall_s"),
+                               cpu=med("cpu_s"),
                                render=med("render_s")))
         err_fit = line_fit([math.log(p["spp"]) for p in points],
                            [math.log(p["rel_mse"]) for p in points])
@@ -218,8 +246,9 @@ def table(args):
           " estimate), and median times of the two seeds (s).\n")
     print("| model | renderer | spp | relMSE | render s | CPU s (process) | wall s (process) |")
     print("|---|---|---|---|---|---|---|")
+    renderers = labels_of(res, "cycles") + labels_of(res, "glint")
     for model in models:
-        for ren in ("cycles", "glint"):
+        for ren in renderers:
             m = res.get((model, ren))
             if not m:
                 continue
@@ -232,7 +261,7 @@ def table(args):
           " render b (per spp) |")
     print("|---|---|---|---|---|---|---|---|")
     for model in models:
-        for ren in ("cycles", "glint"):
+        for ren in renderers:
             m = res.get((model, ren))
             if not m:
                 continue
@@ -243,23 +272,43 @@ def table(args):
     print("\nEqual error: for the relMSE Cycles reaches at each spp, the spp glint needs (log-log"
           " interpolation) and each renderer's sampling cost for it (b·spp, fixed costs excluded) and"
           " total (a + b·spp); speed-up = Cycles' time / glint's.\n")
-    print("| model | Cycles spp | relMSE | glint spp | speed-up, CPU per spp | speed-up, CPU incl."
-          " fixed | speed-up, render timer (wall) per spp |")
-    print("|---|---|---|---|---|---|---|")
+    print("| model | Cycles | Cycles spp | relMSE | glint | glint spp | speed-up, CPU per spp |"
+          " speed-up, CPU incl. fixed | speed-up, render timer (wall) per spp |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    pairs = [(c, g) for c in labels_of(res, "cycles") for g in labels_of(res, "glint")]
     for model in models:
-        c, g = res.get((model, "cycles")), res.get((model, "glint"))
-        if not (c and g):
-            continue
-        for p in c["points"]:
-            n = spp_for(g, p["rel_mse"])
-            cells = []
-            for k, incl in (("cpu", False), ("cpu", True), ("render", False)):
-                (ca, cb), (ga, gb) = c["fits"][k], g["fits"][k]
-                tc = cb * p["spp"] + (ca if incl else 0.0)
-                tg = gb * n + (ga if incl else 0.0)
-                cells.append(f"{tc / tg:.2f}×")
-            print(f"| {model} | {p['spp']} | {p['rel_mse']:.4g} | {n:.0f} | " + " | ".join(cells)
-                  + " |")
+        for cl, gl in pairs:
+            c, g = res.get((model, cl)), res.get((model, gl))
+            if not (c and g):
+                continue
+            for p in c["points"]:
+                n = spp_for(g, p["rel_mse"])
+                cells = []
+                for k, incl in (("cpu", False), ("cpu", True), ("render", False)):
+                    (ca, cb), (ga, gb) = c["fits"][k], g["fits"][k]
+                    tc = cb * p["spp"] + (ca if incl else 0.0)
+                    tg = gb * n + (ga if incl else 0.0)
+                    cells.append(f"{tc / tg:.2f}×")
+                print(f"| {model} | {cl} | {p['spp']} | {p['rel_mse']:.4g} | {gl} | {n:.0f} | "
+                      + " | ".join(cells) + " |")
+    print("\nAt equal spp (issue 23's measure): relMSE of each renderer from its two seeds a, b with"
+          " m = (a + b)/2, relMSE = mean(((a − b)²/2)/(m² + 0.01)); speed-up at equal error ="
+          " (CPU_cycles · relMSE_cycles)/(CPU_glint · relMSE_glint), whole processes.\n")
+    print("| model | spp | Cycles | relMSE | CPU s | glint | relMSE | CPU s | speed-up |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for model in models:
+        for cl, gl in pairs:
+            c, g = res.get((model, cl)), res.get((model, gl))
+            if not (c and g):
+                continue
+            gp = {p["spp"]: p for p in g["points"]}
+            for p in c["points"]:
+                q = gp.get(p["spp"])
+                if q is None:
+                    continue
+                ec, eg = p["rel_mse_self"], q["rel_mse_self"]
+                print(f"| {model} | {p['spp']} | {cl} | {ec:.4g} | {p['cpu']:.2f} | {gl} | {eg:.4g} "
+                      f"| {q['cpu']:.2f} | {(p['cpu'] * ec) / (q['cpu'] * eg):.2f}× |")
 
 
 def main():
@@ -269,7 +318,9 @@ def main():
     ap.add_argument("--out", required=True, help="folder for the renders and runs.csv")
     ap.add_argument("--models", nargs="+", default=list(MODELS)[:4], choices=list(MODELS))
     ap.add_argument("--renderers", nargs="+", default=["cycles", "glint"],
-                    choices=["cycles", "glint"])
+                    help="renderer labels: cycles, glint, or --variant labels")
+    ap.add_argument("--variant", action="append", default=[], metavar="LABEL=RENDERER:ARGS",
+                    help="a renderer label rendered by cycles or glint with extra arguments")
     ap.add_argument("--cycles-spp", nargs="+", type=int, default=[16, 64, 256])
     ap.add_argument("--glint-spp", nargs="+", type=int, default=[16, 64, 256])
     ap.add_argument("--seeds", type=int, default=2, help="seeds per spp (the first two give the"

@@ -17,9 +17,7 @@ use base64::Engine;
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use glint::accel::BackendKind;
 use glint::gt_check::{self, GroundTruthFile};
-use glint::job::{
-    self, CameraChoice, Job, OutputSpec, PreparedScene, RunOptions, SceneSource,
-};
+use glint::job::{self, CameraChoice, Job, OutputSpec, PreparedScene, RunOptions, SceneSource};
 use glint::render::{AovSelection, PixelSampling, RenderSettings};
 use glint::scene::gltf::SceneSelection;
 use serde_json::json;
@@ -38,7 +36,10 @@ const C1: [f64; 3] = [0.8, -0.4, 6.5];
 const ORTHO_MAG: (f64, f64) = (4.0, 3.0);
 
 fn f32_bytes(values: &[f64]) -> Vec<u8> {
-    values.iter().flat_map(|&v| (v as f32).to_le_bytes()).collect()
+    values
+        .iter()
+        .flat_map(|&v| (v as f32).to_le_bytes())
+        .collect()
 }
 
 /// A scene: an animated unit quad (node 0) in front of a static backdrop (node 1), a moving
@@ -76,9 +77,7 @@ fn write_scene(dir: &Path) -> PathBuf {
             buffer.push(0);
         }
     }
-    let acc = |view: usize, count: usize, kind: &str, ctype: u32| {
-        json!({"bufferView": view, "count": count, "type": kind, "componentType": ctype})
-    };
+    let acc = |view: usize, count: usize, kind: &str, ctype: u32| json!({"bufferView": view, "count": count, "type": kind, "componentType": ctype});
     let mut quad_pos = acc(0, 4, "VEC3", 5126);
     quad_pos["min"] = json!([-1.0, -1.0, 0.0]);
     quad_pos["max"] = json!([1.0, 1.0, 0.0]);
@@ -250,14 +249,24 @@ fn z_reprojects_to_position_for_perspective_and_orthographic_cameras() {
         // The sidecar's camera, K and planes are the glTF camera's.
         let sidecar = &file.sidecar;
         assert_eq!(sidecar.camera.node, Some(2 + camera as u32));
-        assert_eq!((sidecar.width, sidecar.height, sidecar.time), (W, H, Some(0.3)));
+        assert_eq!(
+            (sidecar.width, sidecar.height, sidecar.time),
+            (W, H, Some(0.3))
+        );
         let k = sidecar.camera.k;
-        assert_eq!((k[0][2], k[1][2]), (31.5, 23.5), "principal point, centres at integers");
+        assert_eq!(
+            (k[0][2], k[1][2]),
+            (31.5, 23.5),
+            "principal point, centres at integers"
+        );
         if camera == 0 {
             let f = f64::from(H) / (2.0 * (YFOV / 2.0).tan());
             // yfov is an f32 in the file.
             assert!((k[0][0] - f).abs() < 1e-4 * f && (k[1][1] - f).abs() < 1e-4 * f);
-            assert_eq!((sidecar.camera.znear, sidecar.camera.zfar), (0.1f32 as f64, Some(100.0)));
+            assert_eq!(
+                (sidecar.camera.znear, sidecar.camera.zfar),
+                (0.1f32 as f64, Some(100.0))
+            );
         } else {
             assert_eq!(k[0][0], f64::from(W) / (2.0 * ORTHO_MAG.0));
         }
@@ -286,7 +295,12 @@ fn z_reprojects_to_position_for_perspective_and_orthographic_cameras() {
         // uv: the quad's texture coordinates, NaN on the backdrop (which has none).
         let uv = aovs.uv.as_ref().unwrap();
         assert!(uv.pixels.iter().any(|v| v.is_nan()) && uv.pixels.iter().any(|v| v.is_finite()));
-        assert!(uv.pixels.iter().filter(|v| v.is_finite()).all(|v| v.min_element() >= -1e-6 && v.max_element() <= 1.0 + 1e-6));
+        assert!(
+            uv.pixels
+                .iter()
+                .filter(|v| v.is_finite())
+                .all(|v| v.min_element() >= -1e-6 && v.max_element() <= 1.0 + 1e-6)
+        );
     }
 }
 
@@ -327,20 +341,32 @@ fn flow_of_an_animated_quad_and_a_moving_camera_is_the_analytic_displacement() {
                 continue; // on the quad's silhouette: either answer is right
             }
             let occluded = !on_quad && s > 0.0 && s < 1.0 && inside < 1.0;
-            let off = landing.x < 0.0 || landing.y < 0.0 || landing.x >= f64::from(W) || landing.y >= f64::from(H);
+            let off = landing.x < 0.0
+                || landing.y < 0.0
+                || landing.x >= f64::from(W)
+                || landing.y >= f64::from(H);
             let got = flow.pixels[i];
             if occluded || off {
-                assert!(got.is_nan(), "pixel {i}: hidden or off the image then, flow {got}");
+                assert!(
+                    got.is_nan(),
+                    "pixel {i}: hidden or off the image then, flow {got}"
+                );
                 hidden += 1;
                 continue;
             }
             let expected = landing - DVec2::new(x, y);
             let error = (got.as_dvec2() - expected).length();
-            assert!(error < 1e-3, "pixel {i} (quad: {on_quad}): flow {got} vs {expected}");
+            assert!(
+                error < 1e-3,
+                "pixel {i} (quad: {on_quad}): flow {got} vs {expected}"
+            );
             compared += 1;
         }
     }
-    assert!(compared > 4000 && hidden > 20, "{compared} compared, {hidden} hidden");
+    assert!(
+        compared > 4000 && hidden > 20,
+        "{compared} compared, {hidden} hidden"
+    );
 }
 
 #[test]
@@ -420,12 +446,23 @@ fn skinned_and_morphing_models_flow_consistently() {
         let reprojection = gt_check::reprojection(&a).unwrap();
         assert!(reprojection.largest < 1e-4, "{model}: {reprojection:?}");
         let flow = images(&out).flow.as_ref().unwrap();
-        let largest = flow.pixels.iter().filter(|f| f.is_finite()).map(|f| f.length()).fold(0.0, f32::max);
-        assert!(largest > 0.5, "{model}: the deformation must move pixels ({largest} px)");
+        let largest = flow
+            .pixels
+            .iter()
+            .filter(|f| f.is_finite())
+            .map(|f| f.length())
+            .fold(0.0, f32::max);
+        assert!(
+            largest > 0.5,
+            "{model}: the deformation must move pixels ({largest} px)"
+        );
         let round = gt_check::flow_round_trip(&a, &b).unwrap();
         // Bilinear interpolation of the next frame's backward flow is first-order across
         // the bends between a deforming mesh's triangles: a tenth of a pixel.
-        assert!(round.largest < 0.1 && round.compared > 100, "{model}: {round:?}");
+        assert!(
+            round.largest < 0.1 && round.compared > 100,
+            "{model}: {round:?}"
+        );
     }
 }
 
@@ -440,12 +477,30 @@ fn geometric_aovs_are_the_same_for_any_thread_count_and_both_backends_agree() {
     let two = render.run(&dir.path().join("two.exr"));
     let bits = |o: &job::JobOutput| {
         let a = images(o);
-        let mut v: Vec<u32> = a.z.as_ref().unwrap().pixels.iter().map(|x| x.to_bits()).collect();
+        let mut v: Vec<u32> =
+            a.z.as_ref()
+                .unwrap()
+                .pixels
+                .iter()
+                .map(|x| x.to_bits())
+                .collect();
         for img in [a.position.as_ref().unwrap()] {
-            v.extend(img.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)));
+            v.extend(
+                img.pixels
+                    .iter()
+                    .flat_map(|p| p.to_array().map(f32::to_bits)),
+            );
         }
-        for img in [a.uv.as_ref().unwrap(), a.flow.as_ref().unwrap(), a.flow_backward.as_ref().unwrap()] {
-            v.extend(img.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)));
+        for img in [
+            a.uv.as_ref().unwrap(),
+            a.flow.as_ref().unwrap(),
+            a.flow_backward.as_ref().unwrap(),
+        ] {
+            v.extend(
+                img.pixels
+                    .iter()
+                    .flat_map(|p| p.to_array().map(f32::to_bits)),
+            );
         }
         v
     };
@@ -498,14 +553,23 @@ fn flow_without_a_time_is_refused_and_aovs_stay_off_by_default() {
         width: Some(8),
         height: Some(6),
         backend: BackendKind::Bvh,
-        settings: RenderSettings { spp: 1, ..Job::default().settings },
+        settings: RenderSettings {
+            spp: 1,
+            ..Job::default().settings
+        },
         output: Some(OutputSpec {
             path: dir.path().join("plain.exr"),
             ..OutputSpec::default()
         }),
         ..Job::default()
     };
-    let prepared = PreparedScene::load(&plain.scene, &plain.selection, &plain.load_options, plain.backend).unwrap();
+    let prepared = PreparedScene::load(
+        &plain.scene,
+        &plain.selection,
+        &plain.load_options,
+        plain.backend,
+    )
+    .unwrap();
     let out = job::run(&plain, &prepared, RunOptions::default()).unwrap();
     assert!(!dir.path().join("plain.json").exists());
     assert!(images(&out).centre_hits.is_none() && images(&out).z.is_none());

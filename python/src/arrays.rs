@@ -9,6 +9,7 @@
 //! | `instance_id`, `material_id` | uint32 | H×W (`NO_ID` where nothing is hit) |
 //! | `coverage_ids` | uint32 | H×W×K |
 //! | `coverage` | float32 | H×W×K (fractions of the pixel's samples) |
+//! | `samples` | uint32 | H×W, samples each pixel took (only when adaptive sampling ran) |
 
 use glam::Vec3;
 use glint::job::JobImages;
@@ -89,6 +90,9 @@ pub fn images_to_dict<'py>(py: Python<'py>, images: &JobImages) -> PyResult<Boun
         dict.set_item("coverage_ids", planes(py, &coverage.ids, same)?)?;
         let same = |p: [f32; COVERAGE_LAYERS]| p;
         dict.set_item("coverage", planes(py, &coverage.fractions, same)?)?;
+    }
+    if let Some(samples) = &aovs.samples {
+        dict.set_item("samples", plane(py, samples)?)?;
     }
     Ok(dict)
 }

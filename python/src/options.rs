@@ -33,7 +33,7 @@ pub const AOV_NAMES: [&str; 11] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 25] = [
+pub const RENDER_KEYS: [&str; 28] = [
     "sidecar",
     "flow_dt",
     "width",
@@ -58,6 +58,9 @@ pub const RENDER_KEYS: [&str; 25] = [
     "time_budget",
     "target_error",
     "max_spp",
+    "adaptive",
+    "clamp_indirect",
+    "mis_compensation",
     "output",
 ];
 
@@ -177,6 +180,21 @@ pub fn job_from_kwargs(
             integrator,
             brdf,
             environment_visible: !get::<bool>(kwargs, "env_hidden")?.unwrap_or(false),
+            adaptive: glint::render::adaptive::threshold_for(
+                get::<f32>(kwargs, "adaptive")?,
+                target_error,
+            )
+            .map_err(PyValueError::new_err)?,
+            clamp_indirect: match get::<f32>(kwargs, "clamp_indirect")? {
+                Some(x) if !(x > 0.0 && x.is_finite()) => {
+                    return Err(PyValueError::new_err(format!(
+                        "clamp_indirect={x}: give a positive radiance, e.g. 10"
+                    )));
+                }
+                x => x,
+            },
+            mis_compensation: get::<bool>(kwargs, "mis_compensation")?
+                .unwrap_or(defaults.settings.mis_compensation),
             ..defaults.settings
         },
         samples,

@@ -162,6 +162,20 @@ pub struct RenderArgs {
     /// time budget or --max-spp is reached.
     #[arg(long, value_name = "E")]
     pub target_error: Option<f64>,
+    /// Adaptive sampling: pixels whose estimated relative error is below T stop taking samples
+    /// (by Russian roulette, so the image stays unbiased); 0 turns it off [default: off, or
+    /// the --target-error E when one is given].
+    #[arg(long, value_name = "T")]
+    pub adaptive: Option<f32>,
+    /// Biased, off by default: clamp each indirect light contribution (after the first
+    /// bounce) to at most X in its largest channel, W/(m²·sr) (Blender's default is 10).
+    /// Removes fireflies and the energy they carry.
+    #[arg(long, value_name = "X")]
+    pub clamp_indirect: Option<f32>,
+    /// Turn MIS compensation off: environment samples then follow the whole map even where
+    /// BSDF samples share the work (for comparisons; unbiased either way).
+    #[arg(long)]
+    pub no_mis_compensation: bool,
     /// Sample cap of a progressive render.
     #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
     pub max_spp: u32,
@@ -315,6 +329,17 @@ impl RenderArgs {
                 integrator: self.integrator,
                 brdf: self.brdf,
                 environment_visible: !self.env_hidden,
+                adaptive: render::adaptive::threshold_for(self.adaptive, self.target_error)
+                    .map_err(|e| JobError::Options(format!("--adaptive: {e}")))?,
+                clamp_indirect: match self.clamp_indirect {
+                    Some(x) if !(x > 0.0 && x.is_finite()) => {
+                        return Err(JobError::Options(format!(
+                            "--clamp-indirect {x}: give a positive radiance, e.g. 10"
+                        )));
+                    }
+                    x => x,
+                },
+                mis_compensation: !self.no_mis_compensation,
                 ..RenderSettings::default()
             },
             samples,

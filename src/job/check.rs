@@ -66,6 +66,13 @@ impl Job {
                     .into(),
             );
         }
+        if partial && self.settings.adaptive.is_some() {
+            return bad(
+                "--adaptive decides per pixel from the whole render's samples: render without \
+                 --sample-range/--shard, or give --adaptive 0"
+                    .into(),
+            );
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width and --height must be at least 1".into());
         }

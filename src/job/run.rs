@@ -175,9 +175,16 @@ fn run_in_scene(
             (o.image, o.aovs, o.stats, 0..p.spp, note)
         }
         _ => {
-            let (film, stats) = render_film(&inputs, settings, 0..settings.spp, options.progress)?;
-            let (image, aovs) = film.resolve();
-            (image, aovs, stats, 0..settings.spp, String::new())
+            let o = crate::render::render_with(&inputs, settings, options.progress)?;
+            let note = match &o.aovs.samples {
+                Some(counts) => format!(
+                    "; adaptive: {:.1} samples per pixel on average",
+                    counts.pixels.iter().map(|&n| n as f64).sum::<f64>()
+                        / counts.pixels.len().max(1) as f64
+                ),
+                None => String::new(),
+            };
+            (o.image, o.aovs, o.stats, 0..settings.spp, note)
         }
     };
     let projection =

@@ -47,7 +47,7 @@
 //! integral).
 
 use super::area::{AreaLights, AreaSample};
-use super::environment::{EnvSample, EnvironmentLight};
+use super::environment::{EnvSample, EnvSampling, EnvironmentLight};
 use super::light_bvh::{ClusterBounds, LightBvh};
 use super::{GeneralLight, LightSet, PunctualLight, ShadowTarget, Unlit};
 use crate::color::luminance;
@@ -95,6 +95,8 @@ pub struct LightSampler<'a> {
     area: Option<Cow<'a, AreaLights>>,
     /// The environment (`None` without one, or when it is not light-sampled).
     environment: Option<&'a EnvironmentLight>,
+    /// Which of the environment's distributions its samples come from.
+    env_sampling: EnvSampling,
 }
 
 impl<'a> LightSampler<'a> {
@@ -126,7 +128,25 @@ impl<'a> LightSampler<'a> {
             directional,
             area,
             environment,
+            env_sampling: EnvSampling::Full,
         }
+    }
+
+    /// The same sampler drawing environment directions from `mode` (the full distribution
+    /// by default; the compensated one only where BSDF sampling, combined by MIS, also runs at
+    /// every vertex that takes a light sample). Builds that distribution now.
+    pub fn with_env_sampling(mut self, mode: EnvSampling) -> Self {
+        if let Some(env) = self.environment {
+            env.prepare(mode);
+        }
+        self.env_sampling = mode;
+        self
+    }
+
+    /// Which distribution environment samples come from.
+    #[inline]
+    pub fn env_sampling(&self) -> EnvSampling {
+        self.env_sampling
     }
 
     /// The emissive triangles, if they are sampled.
@@ -283,7 +303,7 @@ impl<'a> LightSampler<'a> {
             None => {
                 let mut es = self
                     .environment
-                    .and_then(|env| env.sample(u))
+                    .and_then(|env| env.sample_with(u, self.env_sampling))
                     .ok_or(NoLightSample::None)?;
                 es.pdf *= probability;
                 positive(es.pdf).map(|_| LightSample::Environment(es))
@@ -310,13 +330,14 @@ impl<'a> LightSampler<'a> {
     #[inline]
     pub fn environment_pdf(&self, dir: Vec3) -> f32 {
         match self.environment {
-            Some(env) => env.pdf(dir) / self.infinite_count() as f32,
+            Some(env) => env.pdf_with(dir, self.env_sampling) / self.infinite_count() as f32,
             None => 0.0,
         }
     }
 
     /// The sampler's density for an environment direction whose own density under the
-    /// environment's map is `env_pdf` (from [`EnvironmentLight::radiance_and_pdf`]): the
+    /// environment's map is `env_pdf` (from [`EnvironmentLight::radiance_and_pdf_with`] and
+    /// [`env_sampling`](Self::env_sampling)): the
     /// same as [`environment_pdf`](Self::environment_pdf) without looking the direction up
     /// again.
     #[inline]

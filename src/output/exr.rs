@@ -10,7 +10,8 @@
 //! `material_id`, and the coverage layers as `coverage.id0` … `coverage.id3` (uint32) with
 //! `coverage.fraction0` … `coverage.fraction3` (float); the geometric ground truth
 //! ([`crate::render::ground_truth`]) as floats `z`, `position.X/Y/Z`, `uv.U/V`, `flow.X/Y` and
-//! `flow_backward.X/Y`, NaN where invalid. Exposure is not applied.
+//! `flow_backward.X/Y`, NaN where invalid; `samples` (uint32), each pixel's sample count, when
+//! adaptive sampling ran. Exposure is not applied.
 
 use super::{OutputError, write_atomically};
 use crate::render::ids::COVERAGE_LAYERS;
@@ -93,7 +94,10 @@ pub fn write_exr_annotated(
         add_f32("z", z.pixels.clone())?;
     }
     if let Some(position) = &aovs.position {
-        for (axis, name) in ["position.X", "position.Y", "position.Z"].iter().enumerate() {
+        for (axis, name) in ["position.X", "position.Y", "position.Z"]
+            .iter()
+            .enumerate()
+        {
             add_f32(name, position.pixels.iter().map(|p| p[axis]).collect())?;
         }
     }
@@ -121,6 +125,9 @@ pub fn write_exr_annotated(
     }
     if let Some(ids) = &aovs.material_id {
         add_u32("material_id".into(), ids.pixels.clone())?;
+    }
+    if let Some(samples) = &aovs.samples {
+        add_u32("samples".into(), samples.pixels.clone())?;
     }
     if let Some(coverage) = &aovs.coverage {
         for layer in 0..COVERAGE_LAYERS {

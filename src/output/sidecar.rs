@@ -104,7 +104,11 @@ pub struct CameraRecord {
 
 fn rows3(m: DMat3) -> Mat3Rows {
     let t = m.transpose();
-    [t.x_axis.to_array(), t.y_axis.to_array(), t.z_axis.to_array()]
+    [
+        t.x_axis.to_array(),
+        t.y_axis.to_array(),
+        t.z_axis.to_array(),
+    ]
 }
 
 fn rows4(m: DMat4) -> Mat4Rows {

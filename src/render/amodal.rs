@@ -53,14 +53,15 @@ impl InstanceSamples {
     }
 }
 
-/// Records, for one batch of camera rays (`rays[i]` is tile pixel `i`'s, `hits[i]` its
-/// accepted first hit), every instance each ray pierces in the amodal counts (nothing unless
-/// annotations are selected).
+/// Records, for one batch of camera rays (`rays[i]` is tile pixel `pixels[i]`'s, `hits[i]` its
+/// accepted first hit; all pixels, or those adaptive sampling has not stopped), every instance
+/// each ray pierces in the amodal counts (nothing unless annotations are selected).
 pub(super) fn record_amodal(
     ctx: &TileContext<'_>,
     sums: &mut TileSums,
     rays: &[Ray],
     hits: &[Option<Hit>],
+    pixels: impl Iterator<Item = usize>,
     batch: RayBatch,
 ) {
     if sums.amodal.is_empty() {
@@ -68,7 +69,10 @@ pub(super) fn record_amodal(
     }
     let mut along = Vec::new();
     let mut pierced: Vec<u32> = Vec::new();
-    for (index, ((pixel, ray), hit)) in sums.amodal.iter_mut().zip(rays).zip(hits).enumerate() {
+    for (index, ((pixel, ray), hit)) in pixels.zip(rays).zip(hits).enumerate() {
+        let Some(pixel) = sums.amodal.get_mut(pixel) else {
+            continue;
+        };
         pierced.clear();
         if let Some(h) = hit {
             pierced.push(ids::instance_id(ctx.scene, h.geom_id, h.instance));

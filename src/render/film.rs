@@ -137,6 +137,9 @@ pub struct Aovs {
     pub flow_backward: Option<Image<Vec2>>,
     /// See [`AovSelection::annotations`].
     pub instance_samples: Option<InstanceSamples>,
+    /// Samples each pixel took: present when adaptive sampling ran ([`super::adaptive`]);
+    /// EXR outputs carry it as the uint32 channel `samples`.
+    pub samples: Option<Image<u32>>,
 }
 
 /// Per-pixel sums of one tile's samples, in the tile's row-major order.
@@ -508,6 +511,7 @@ impl Film {
                     }),
                     _ => None,
                 },
+                samples: None,
                 ..Aovs::default()
             },
         )

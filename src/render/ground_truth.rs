@@ -232,7 +232,10 @@ fn flow_to(
             if depth <= 0.0 {
                 continue;
             }
-            (then - other.projection.world_from_camera_cv.z_axis * depth, depth)
+            (
+                then - other.projection.world_from_camera_cv.z_axis * depth,
+                depth,
+            )
         } else {
             (other.projection.origin, to_point.length())
         };
@@ -248,7 +251,8 @@ fn flow_to(
     for ((index, displacement, _, _, distance), seen) in candidates.iter().zip(&seen) {
         let hidden = match (seen, hits.pixels.get(*index).copied().flatten()) {
             (Some(s), Some(h)) => {
-                let same = s.geom_id == h.geom_id && s.instance == h.instance && s.prim_id == h.prim_id;
+                let same =
+                    s.geom_id == h.geom_id && s.instance == h.instance && s.prim_id == h.prim_id;
                 !same && f64::from(s.t) < distance * (1.0 - OCCLUSION_TOLERANCE)
             }
             _ => false,

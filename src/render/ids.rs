@@ -88,16 +88,24 @@ pub fn count(pixel: &mut PixelCoverage, id: u32, n: u32) {
     }
 }
 
-/// Records the first hits of one batch of camera rays, `hits[i]` being tile pixel `i`'s, in
-/// the coverage counts (nothing unless the coverage AOV is selected).
+/// Records the first hits of one batch of camera rays, `hits[i]` being that of the `i`-th tile
+/// pixel in `pixels` (all of them, or those adaptive sampling has not stopped), in the coverage
+/// counts (nothing unless the coverage AOV is selected).
 #[inline]
-pub(super) fn record_coverage(ctx: &TileContext<'_>, sums: &mut TileSums, hits: &[Option<Hit>]) {
+pub(super) fn record_coverage(
+    ctx: &TileContext<'_>,
+    sums: &mut TileSums,
+    hits: &[Option<Hit>],
+    pixels: impl Iterator<Item = usize>,
+) {
     if sums.coverage.is_empty() {
         return;
     }
-    for (pixel, hit) in sums.coverage.iter_mut().zip(hits) {
+    for (pixel, hit) in pixels.zip(hits) {
         let id = hit.map_or(NO_ID, |h| hit_instance_id(ctx.scene, &h));
-        count(pixel, id, 1);
+        if let Some(pixel) = sums.coverage.get_mut(pixel) {
+            count(pixel, id, 1);
+        }
     }
 }
 

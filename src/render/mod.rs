@@ -12,6 +12,7 @@
 //!
 //! Tiles render in parallel on a dedicated rayon pool of [`RenderSettings::threads`] threads.
 
+pub mod adaptive;
 pub mod amodal;
 pub mod camera;
 pub mod film;
@@ -93,6 +94,18 @@ pub struct RenderSettings {
     /// The metallic-roughness model: energy-compensated (default) or the glTF spec's
     /// Appendix B exactly.
     pub brdf: BrdfModel,
+    /// Adaptive sampling ([`adaptive`]): the per-pixel relative RMS error below which a pixel
+    /// may stop taking samples (unbiased: stopping is a Russian roulette); `None`: every
+    /// pixel takes every sample.
+    pub adaptive: Option<f32>,
+    /// Biased, off by default: the largest luminance one indirect contribution (a path vertex
+    /// after the first bounce, or light reached through one) may add to a pixel; larger ones
+    /// are scaled down to it. Removes fireflies and the energy they carry.
+    pub clamp_indirect: Option<f32>,
+    /// MIS compensation (on by default): where the path tracer combines environment samples
+    /// with BSDF samples by MIS, environment directions come from the map's excess over its
+    /// mean (Karlík et al. 2019), leaving the dim part to BSDF sampling. Unbiased either way.
+    pub mis_compensation: bool,
 }
 
 /// How the path tracer estimates light from surfaces and the environment it can also hit.
@@ -140,6 +153,9 @@ impl Default for RenderSettings {
             light_strategy: LightStrategy::Mis,
             russian_roulette: true,
             brdf: BrdfModel::default(),
+            adaptive: None,
+            clamp_indirect: None,
+            mis_compensation: true,
         }
     }
 }
@@ -229,9 +245,33 @@ pub fn render(
     progress: Option<Progress<'_>>,
 ) -> Result<RenderOutput, RenderError> {
     let inputs = RenderInputs::of_scene(scene, accel, camera);
-    let (film, stats) = render_film(&inputs, settings, 0..settings.spp, progress)?;
-    let (image, aovs) = film.resolve();
-    Ok(RenderOutput { image, aovs, stats })
+    render_with(&inputs, settings, progress)
+}
+
+/// [`render`] from [`RenderInputs`]: all `settings.spp` samples, in one pass, or with
+/// adaptive sampling ([`RenderSettings::adaptive`]) in passes between which converged pixels
+/// stop.
+pub fn render_with(
+    inputs: &RenderInputs<'_>,
+    settings: &RenderSettings,
+    progress: Option<Progress<'_>>,
+) -> Result<RenderOutput, RenderError> {
+    if settings.adaptive.is_none() {
+        let (film, stats) = render_film(inputs, settings, 0..settings.spp, progress)?;
+        let (image, aovs) = film.resolve();
+        return Ok(RenderOutput { image, aovs, stats });
+    }
+    let mut renderer = TileScheduler::with_inputs(inputs, settings)?;
+    for pass in adaptive::schedule(settings.spp) {
+        if renderer.samples_per_pixel() > 0 {
+            renderer.adapt();
+        }
+        renderer.render_pass(pass, progress);
+        if renderer.cancelled() {
+            return Err(RenderError::Cancelled);
+        }
+    }
+    Ok(renderer.finish())
 }
 
 /// What a render reads besides its settings, for callers that share one scene across many
@@ -373,6 +413,13 @@ pub fn render_film(
 ) -> Result<(Film, RenderStats), RenderError> {
     // The settings themselves are validated once, by the scheduler (spp = 0 included, so
     // that it is reported as such rather than as an empty range).
+    if settings.adaptive.is_some() {
+        return Err(RenderError::Settings(
+            "adaptive sampling renders whole images (render_with), not sample ranges or \
+             partial renders"
+                .into(),
+        ));
+    }
     if settings.spp > 0 && (samples.start >= samples.end || samples.end > settings.spp) {
         return Err(RenderError::Settings(format!(
             "sample range {}..{} must be non-empty and within 0..{} (the samples per pixel)",
@@ -403,6 +450,20 @@ pub(crate) fn validate(s: &RenderSettings) -> Result<(), RenderError> {
     }
     if s.spp == 0 {
         return bad("samples per pixel must be at least 1".into());
+    }
+    if let Some(t) = s.adaptive
+        && !(t > 0.0 && t.is_finite())
+    {
+        return bad(format!(
+            "adaptive threshold {t} must be a positive relative error, e.g. 0.01"
+        ));
+    }
+    if let Some(c) = s.clamp_indirect
+        && !(c > 0.0 && c.is_finite())
+    {
+        return bad(format!(
+            "indirect clamp {c} must be a positive radiance (W/(m²·sr)), e.g. 10"
+        ));
     }
     Ok(())
 }

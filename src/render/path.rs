@@ -113,7 +113,7 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
 /// Renders one tile with the path tracer (or the direct integrator, see the module doc).
 pub(crate) fn render_tile(
     ctx: &TileContext<'_>,
-    pass: Pass,
+    pass: Pass<'_>,
     tile: &Tile,
     s: &mut PathScratch,
 ) -> (TileSums, RayCounts) {
@@ -130,6 +130,11 @@ pub(crate) fn render_tile(
         s.film.clear();
         for local in 0..tile.pixel_count() {
             let (x, y) = tile.pixel(local);
+            if !pass.samples_pixel(x, y) {
+                // Stopped by adaptive sampling: no ray, no weight.
+                s.weights.push(0.0);
+                continue;
+            }
             let (ray, weight, film) = camera_sample(ctx, x, y, sample);
             if carry {
                 s.film.push(film);
@@ -154,8 +159,9 @@ pub(crate) fn render_tile(
             let batch = RayBatch::new(tile, sample, depth);
             let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, batch, &mut counts);
             if primary {
-                super::ids::record_coverage(ctx, &mut sums, &s.hits);
-                super::amodal::record_amodal(ctx, &mut sums, &s.rays, &s.hits, batch);
+                let pixels = s.paths.iter().map(|p| p.pixel as usize);
+                super::ids::record_coverage(ctx, &mut sums, &s.hits, pixels.clone());
+                super::amodal::record_amodal(ctx, &mut sums, &s.rays, &s.hits, pixels, batch);
             }
             s.next_rays.clear();
             s.next_paths.clear();
@@ -163,7 +169,7 @@ pub(crate) fn render_tile(
             for i in 0..s.rays.len() {
                 let (ray, path) = (s.rays[i], s.paths[i]);
                 let Some(hit) = s.hits[i] else {
-                    escaped(ctx, &ray, &path, primary, &mut sums);
+                    escaped(ctx, &ray, &path, depth, &mut sums);
                     continue;
                 };
                 let film = if carry && primary {
@@ -205,10 +211,11 @@ pub(crate) fn render_tile(
 /// sampling unless the ray is a camera ray (shown only when the environment is visible) or
 /// left a delta lobe.
 #[inline]
-fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, primary: bool, sums: &mut TileSums) {
+fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, depth: u32, sums: &mut TileSums) {
     let Some(env) = ctx.environment else {
         return;
     };
+    let primary = depth == 0;
     if primary && !ctx.transport.environment_visible {
         return;
     }
@@ -220,7 +227,7 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, primary: bool, su
         && !ctx.transport.direct_only()
         && ctx.transport.light_strategy == LightStrategy::Mis;
     let (le, env_pdf) = if weighs {
-        env.radiance_and_pdf(dir)
+        env.radiance_and_pdf_with(dir, ctx.lights.env_sampling())
     } else {
         (env.radiance(dir), 0.0)
     };
@@ -228,7 +235,37 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, primary: bool, su
         return;
     }
     let w = bsdf_hit_weight(ctx, path, || ctx.lights.environment_pdf_of(env_pdf));
-    sums.pending[path.pixel as usize] += beta * le * w;
+    let value = clamped(
+        ctx,
+        beta * le * w,
+        path.filter_weight,
+        depth >= INDIRECT_DEPTH,
+    );
+    sums.pending[path.pixel as usize] += value;
+}
+
+/// Depth of the ray (or, for a light sample, of the vertex plus one) from which light counts
+/// as indirect for `--clamp-indirect`: light that reached the camera through at least two
+/// bounces. Direct light (emitters seen, and light reflected once) is never clamped.
+const INDIRECT_DEPTH: u32 = 2;
+
+/// `--clamp-indirect X` (biased, off by default): an indirect contribution `value` of a sample
+/// of filter weight `filter_weight`, scaled down so that its largest channel per unit filter
+/// weight is at most X. Unchanged when the option is off or the light is direct.
+#[inline(always)]
+fn clamped(ctx: &TileContext<'_>, value: Vec3, filter_weight: f32, indirect: bool) -> Vec3 {
+    match ctx.transport.clamp_indirect {
+        Some(limit) if indirect => {
+            let largest = value.abs().max_element();
+            let cap = limit * filter_weight.abs();
+            if largest > cap {
+                value * (cap / largest)
+            } else {
+                value
+            }
+        }
+        _ => value,
+    }
 }
 
 /// The weight of light found by a BSDF-sampled ray (an emitter hit, an escape into the
@@ -339,7 +376,8 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
                 si.p,
             )
         });
-        sums.pending[pixel] += path.beta * surface.emission * w;
+        let value = path.beta * surface.emission * w;
+        sums.pending[pixel] += clamped(ctx, value, path.filter_weight, v.depth >= INDIRECT_DEPTH);
     }
     let Some(bsdf) = surface.bsdf.as_ref() else {
         return;
@@ -347,7 +385,18 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
     let frame = &surface.frame;
     let wo = frame.to_local(si.wo);
     if bsdf.flags().has_density() {
-        sample_light(ctx, si, frame, wo, bsdf, path, q);
+        let at = Shading {
+            si,
+            frame,
+            wo,
+            bsdf,
+            transmits: bsdf.flags().transmits(),
+            beta: path.beta,
+            pixel: path.pixel,
+            filter_weight: path.filter_weight,
+            indirect: v.depth + 1 >= INDIRECT_DEPTH,
+        };
+        sample_light(ctx, &at, &mut path.stream, q);
     }
 
     // The continuation: the path tracer samples the whole BSDF, the direct integrator follows
@@ -411,34 +460,22 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
 #[inline(always)]
 fn sample_light(
     ctx: &TileContext<'_>,
-    si: &SurfaceInteraction,
-    frame: &Frame,
-    wo: Vec3,
-    bsdf: &SurfaceBsdf,
-    path: &mut PathState,
+    at: &Shading<'_>,
+    stream: &mut SampleStream,
     q: &mut Queues<'_>,
 ) {
-    let lights = &ctx.lights;
-    let at = Shading {
-        si,
-        frame,
-        wo,
-        bsdf,
-        transmits: bsdf.flags().transmits(),
-        beta: path.beta,
-        pixel: path.pixel,
-    };
+    let (lights, si) = (&ctx.lights, at.si);
     for sample in lights.delta(si.p) {
         at.add(ctx, sample, q);
     }
     for kind in lights.kinds().into_iter().flatten() {
         let u_choice = if kind.needs_choice {
-            path.stream.next_1d()
+            stream.next_1d()
         } else {
             0.0
         };
         let u = if kind.needs_position {
-            path.stream.next_2d()
+            stream.next_2d()
         } else {
             Vec2::ZERO
         };
@@ -455,9 +492,18 @@ struct Shading<'s> {
     transmits: bool,
     beta: Vec3,
     pixel: u32,
+    /// The sample's filter weight and whether its light is indirect (`--clamp-indirect`).
+    filter_weight: f32,
+    indirect: bool,
 }
 
 impl Shading<'_> {
+    /// A light sample's contribution after `--clamp-indirect` (when on).
+    #[inline(always)]
+    fn clamped(&self, ctx: &TileContext<'_>, value: Vec3) -> Vec3 {
+        clamped(ctx, value, self.filter_weight, self.indirect)
+    }
+
     /// Queues the shadow ray of one light sample with its contribution
     /// `β · f · |cos θi| · L · w / p` (or counts why there is none).
     #[inline(always)]
@@ -506,7 +552,7 @@ impl Shading<'_> {
                     }
                     ShadowTarget::Infinity => spawn_ray(si.p, si.p_error, si.ng, wi),
                 };
-                q.shadows.push(ray, self.pixel, value);
+                q.shadows.push(ray, self.pixel, self.clamped(ctx, value));
             }
             LightSample::Area(ls) => {
                 if !reachable(si, ls.wi, self.transmits) {
@@ -522,7 +568,7 @@ impl Shading<'_> {
                 let value = self.beta * f * le * (wl.z.abs() * w / ls.pdf);
                 if value.is_finite() {
                     let ray = spawn_ray_to(si.p, si.p_error, si.ng, ls.point);
-                    q.shadows.push(ray, self.pixel, value);
+                    q.shadows.push(ray, self.pixel, self.clamped(ctx, value));
                 }
             }
             LightSample::Environment(es) => {
@@ -538,7 +584,7 @@ impl Shading<'_> {
                 let value = self.beta * f * es.radiance * (wl.z.abs() * w / es.pdf);
                 if value.is_finite() {
                     let ray = spawn_ray(si.p, si.p_error, si.ng, es.wi);
-                    q.shadows.push(ray, self.pixel, value);
+                    q.shadows.push(ray, self.pixel, self.clamped(ctx, value));
                 }
             }
         }

@@ -17,6 +17,9 @@
 //! error a logarithmic number of times; with a target error, a pass is cut to the samples the
 //! target still needs, predicted from error ∝ spp^−½ (+10%), so the last pass does not
 //! overshoot the target by a whole doubling.
+//!
+//! With adaptive sampling ([`RenderSettings::adaptive`], on by default with a target error on
+//! the command line) converged pixels stop before each pass ([`super::adaptive`]).
 
 use super::film::Image;
 use super::scheduler::TileScheduler;
@@ -124,6 +127,8 @@ pub fn render_progressive_with(
     // Two samples first: one in each half-buffer, the least the error estimate needs.
     let mut next = 2;
     let reason = loop {
+        // Adaptive sampling (when on) stops converged pixels before each pass.
+        renderer.adapt();
         renderer.render_pass(next, progress);
         if renderer.cancelled() {
             return Err(RenderError::Cancelled);

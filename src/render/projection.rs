@@ -273,7 +273,8 @@ mod tests {
             }
             // glTF's camera frame is OpenCV's with y and z negated.
             let flip = DMat4::from_diagonal(DVec4::new(1.0, -1.0, -1.0, 1.0));
-            let round = projection.camera_to_world_gltf() * flip * projection.world_to_camera_opencv();
+            let round =
+                projection.camera_to_world_gltf() * flip * projection.world_to_camera_opencv();
             assert!(round.abs_diff_eq(DMat4::IDENTITY, 1e-12));
         }
     }

@@ -46,6 +46,24 @@ pub struct TileScheduler<'a> {
     cancel: Option<&'a AtomicBool>,
     /// Whether the centre-ray ID AOVs still have to be traced (by the next pass).
     ids_pending: bool,
+    /// Adaptive sampling's per-pixel state, when it is on.
+    adaptive: Option<super::adaptive::Adaptive>,
+}
+
+/// The environment distribution a render's light samples come from: compensated (MIS
+/// compensation, Karlík et al. 2019) where the path tracer combines light and BSDF sampling by
+/// MIS at every vertex that takes a light sample, so BSDF sampling covers the directions the
+/// compensated distribution leaves out; the full one for light sampling alone and the direct
+/// integrator (whose non-delta lobes are never BSDF-sampled).
+fn env_sampling(settings: &RenderSettings) -> crate::light::environment::EnvSampling {
+    use crate::light::environment::EnvSampling;
+    let mis = settings.integrator == super::Integrator::Path
+        && settings.light_strategy == super::LightStrategy::Mis;
+    if mis && settings.mis_compensation {
+        EnvSampling::Compensated
+    } else {
+        EnvSampling::Full
+    }
 }
 
 /// The pool a render runs on: its own, or one shared by concurrent renders (`glint batch`).
@@ -148,7 +166,8 @@ impl<'a> TileScheduler<'a> {
                 &LightSet::new(lights, settings.light_units)?,
                 area_lights.filter(|_| samples_surfaces),
                 environment.filter(|_| samples_surfaces),
-            ),
+            )
+            .with_env_sampling(env_sampling(settings)),
             aovs: settings.aovs,
             mipmaps,
             texture_filter: settings.texture_filter,
@@ -162,6 +181,7 @@ impl<'a> TileScheduler<'a> {
                 light_strategy: settings.light_strategy,
                 russian_roulette: settings.russian_roulette,
                 environment_visible: settings.environment_visible,
+                clamp_indirect: settings.clamp_indirect,
             },
         };
         let pool = match pool {
@@ -185,6 +205,14 @@ impl<'a> TileScheduler<'a> {
             ids_pending: settings.aovs.instance_id
                 || settings.aovs.material_id
                 || settings.aovs.any_geometric(),
+            adaptive: settings.adaptive.map(|threshold| {
+                super::adaptive::Adaptive::new(
+                    settings.width,
+                    settings.height,
+                    threshold,
+                    settings.seed,
+                )
+            }),
         })
     }
 
@@ -218,9 +246,11 @@ impl<'a> TileScheduler<'a> {
 
     /// Adds `spp` samples per pixel (the next `spp` of each pixel's sequence) to the film.
     pub fn render_pass(&mut self, spp: u32, progress: Option<Progress<'_>>) {
+        let width = self.film.size().0;
         let pass = Pass {
             first_sample: self.next_sample,
             spp,
+            active: self.adaptive.as_ref().map(|a| (a.active(), width)),
         };
         if self.cancelled() {
             return;
@@ -259,6 +289,9 @@ impl<'a> TileScheduler<'a> {
             self.film.add_tile(tile, sums);
             self.rays += *counts;
         }
+        if let Some(adaptive) = &mut self.adaptive {
+            adaptive.record_pass(spp);
+        }
         self.elapsed += start.elapsed();
         self.next_sample = self.next_sample.saturating_add(spp);
         self.ids_pending = false;
@@ -284,9 +317,34 @@ impl<'a> TileScheduler<'a> {
         &self.film
     }
 
-    /// The image so far and the statistics.
+    /// Adaptive sampling (when on): decides, from the film so far, which pixels stop taking
+    /// samples ([`super::adaptive::Adaptive::decide`]). Call between passes.
+    /// Does nothing before [`super::adaptive::MIN_SAMPLES`] samples per pixel.
+    pub fn adapt(&mut self) {
+        if self.next_sample < super::adaptive::MIN_SAMPLES {
+            return;
+        }
+        if let Some(adaptive) = &mut self.adaptive {
+            adaptive.decide(&self.film);
+        }
+    }
+
+    /// Fraction of pixels still taking samples (1 without adaptive sampling).
+    pub fn active_fraction(&self) -> f64 {
+        self.adaptive
+            .as_ref()
+            .map_or(1.0, super::adaptive::Adaptive::active_fraction)
+    }
+
+    /// The image so far and the statistics; with adaptive sampling, each pixel's unbiased
+    /// estimate ([`super::adaptive::Adaptive::resolve`]) and the samples it took
+    /// ([`super::Aovs::samples`]).
     pub fn finish(&self) -> RenderOutput {
-        let (image, aovs) = self.film.resolve();
+        let (mut image, mut aovs) = self.film.resolve();
+        if let Some(adaptive) = &self.adaptive {
+            image = adaptive.resolve(image);
+            aovs.samples = Some(adaptive.sample_counts());
+        }
         RenderOutput {
             image,
             aovs,

@@ -72,6 +72,9 @@ pub(crate) struct Transport {
     pub russian_roulette: bool,
     /// Whether camera rays that miss show the environment.
     pub environment_visible: bool,
+    /// `--clamp-indirect` (biased): the largest channel an indirect contribution may add,
+    /// per unit filter weight.
+    pub clamp_indirect: Option<f32>,
 }
 
 impl Transport {
@@ -97,11 +100,27 @@ impl TileContext<'_> {
 /// The samples one pass adds: indices `first_sample .. first_sample + spp` of every pixel's
 /// sequence. Passed to each tile apart from the [`TileContext`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Pass {
+pub(crate) struct Pass<'a> {
     /// First sample index of the pass.
     pub first_sample: u32,
     /// Samples per pixel in the pass.
     pub spp: u32,
+    /// Adaptive sampling: which pixels take samples (row-major over the image, `width`
+    /// pixels a row); `None`: all.
+    pub active: Option<(&'a [bool], u32)>,
+}
+
+impl Pass<'_> {
+    /// Whether pixel `(x, y)` takes this pass's samples.
+    #[inline]
+    pub fn samples_pixel(&self, x: u32, y: u32) -> bool {
+        self.active.is_none_or(|(active, width)| {
+            active
+                .get(y as usize * width as usize + x as usize)
+                .copied()
+                .unwrap_or(true)
+        })
+    }
 }
 
 /// The camera ray of sample `sample` of pixel `(x, y)`, its filter weight and its position on

@@ -26,22 +26,35 @@
 //!
 //! # Importance sampling
 //!
-//! A [`Distribution2D`] over the `w × h` texel cells of the unit square, cell `(i, j)` weighted
-//! by `Y(L̄_ij) · sin θ_j`, where `θ_j = π (j + ½)/h` is the row centre's polar angle, `Y` the
-//! Rec. 709 luminance, and `L̄_ij` the average of the *looked-up* radiance over the cell: the
-//! texel itself for nearest lookup, and for bilinear lookup the separable blend
-//! `⅛ L_{i−1} + ¾ L_i + ⅛ L_{i+1}` in each axis (the exact cell average of the bilinear
-//! reconstruction, with the same wrap and clamp). A sampled `(u, v)` with density `p(u, v)`
-//! becomes a direction with the solid-angle density
+//! A [`Distribution2D`] over `sw × sh` cells of the unit square, cell `(a, b)` weighted by
+//! `c(L(u_a, v_b)) · sin θ_b`, where `(u_a, v_b)` is the cell's centre, `θ_b = π v_b` its polar
+//! angle, `L` the *looked-up* radiance and `c` the average of its three channels (pbrt-v4's
+//! choice: a saturated lamp is sampled in proportion to its own channel, which luminance would
+//! under-weight by up to ~4.6× for blue).
+//!
+//! For nearest lookup the cells are the texels (`s = 1`). For bilinear lookup the map is
+//! supersampled, [`SUPERSAMPLING`] cells per texel along each axis (as Cycles builds its
+//! importance map), so that the density follows the lookup inside a texel instead of being
+//! constant over it: next to an isolated bright texel the bilinear lookup falls off linearly,
+//! and a per-texel constant density leaves `L/p` up to 16× its cell mean at the corners.
+//! With `s` even every cell lies inside one bilinear patch (between four texel centres), where
+//! the lookup is bilinear, so its value at the cell centre is exactly its mean over the cell.
+//! Memory rule: `s` is the largest of 4, 2, 1 with at most [`MAX_SAMPLING_CELLS`] cells
+//! (4096 × 2048, about 64 MiB of tables), so a 1k × 512 HDRI gets 4 × 4 cells per texel, a
+//! 2k × 1k one 2 × 2, and a 4k or 8k one its own texels (whose lookup already varies little
+//! across a cell). A sampled `(u, v)` with density `p(u, v)` becomes a direction with the
+//! solid-angle density
 //!
 //! ```text
 //! p(ω) = p(u, v) / (2π² sin θ)      (dω = 2π² sin θ du dv)
 //! ```
 //!
-//! with θ the direction's own polar angle. The estimator is unbiased: the bilinear value in a
-//! cell is a non-negative blend of exactly the texels that enter `L̄` with positive weight, and
-//! `Y` has positive coefficients, so the density is positive wherever the radiance is (the
-//! two poles, a set of measure zero, aside). A constant environment is sampled uniformly over
+//! with θ the direction's own polar angle. The estimator is unbiased: with `s = 1` the cell
+//! weight is the exact cell average of the lookup (the separable blend `⅛ L_{i−1} + ¾ L_i +
+//! ⅛ L_{i+1}` in each axis for bilinear), and with `s` even the centre value is a blend of the
+//! same four texels as every point of the cell with all four weights positive; either way the
+//! density is positive wherever the radiance is (the two poles, a set of measure zero,
+//! aside). A constant environment is sampled uniformly over
 //! the sphere (`p = 1/4π`).
 
 mod load;
@@ -53,7 +66,11 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 use std::path::{Path, PathBuf};
 
-use crate::color::LUMINANCE;
+/// Cells per texel along each axis of a bilinear map's sampling distribution (module doc).
+pub const SUPERSAMPLING: usize = 4;
+
+/// Most cells of a sampling distribution before [`SUPERSAMPLING`] is reduced (4096 × 2048).
+pub const MAX_SAMPLING_CELLS: usize = 4096 * 2048;
 
 /// An environment that cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -180,6 +197,11 @@ pub struct EnvOptions {
     pub interpolation: Interpolation,
     /// The most texels an image may have (checked before decoding a file).
     pub pixel_budget: u64,
+    /// Cells per texel along each axis of the sampling distribution; `None` (the default)
+    /// applies the module doc's rule ([`SUPERSAMPLING`] for bilinear lookup within
+    /// [`MAX_SAMPLING_CELLS`], 1 for nearest). For experiments; an odd count above 1 is
+    /// rounded up to even (its cells would straddle bilinear patches).
+    pub cells_per_texel: Option<usize>,
 }
 
 impl Default for EnvOptions {
@@ -189,6 +211,7 @@ impl Default for EnvOptions {
             rotation_deg: 0.0,
             interpolation: Interpolation::Bilinear,
             pixel_budget: DEFAULT_PIXEL_BUDGET,
+            cells_per_texel: None,
         }
     }
 }
@@ -204,20 +227,39 @@ pub struct EnvSample {
     pub pdf: f32,
 }
 
+/// Which distribution environment directions are drawn from (module doc, "MIS
+/// compensation").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EnvSampling {
+    /// Proportional to the lookup: the only choice where nothing else samples the
+    /// environment (light sampling alone, the direct integrator).
+    #[default]
+    Full,
+    /// Proportional to the lookup's excess over its mean, `max(c − c̄, 0)`: only where BSDF
+    /// sampling, combined by MIS, covers every direction too.
+    Compensated,
+}
+
 #[derive(Clone, Debug)]
 struct Map {
     width: usize,
     height: usize,
     texels: Vec<Vec3>,
     interpolation: Interpolation,
-    /// `None` when every texel is black: nothing to sample.
-    distribution: Option<Distribution2D>,
+    /// Whether some texel is not black (else there is nothing to sample).
+    emits: bool,
+    /// The two distributions, each built on first use (a render uses one): `None` when its
+    /// weights are all zero.
+    full: std::sync::OnceLock<Option<Distribution2D>>,
+    compensated: std::sync::OnceLock<Option<Distribution2D>>,
+    /// Cells of the distributions per texel along each axis.
+    cells_per_texel: usize,
 }
 
 #[derive(Clone, Debug)]
 enum Kind {
     Constant(Vec3),
-    Map(Map),
+    Map(Box<Map>),
 }
 
 /// The environment light (see the module doc for the mapping, lookup and sampling).
@@ -280,16 +322,21 @@ impl EnvironmentLight {
         for t in &mut texels {
             *t = t.max(Vec3::ZERO) * options.strength;
         }
-        let weights = sampling_weights(width, height, &texels, options.interpolation);
-        let distribution = Distribution2D::new(&weights, width, height);
+        let map = Map {
+            width,
+            height,
+            emits: texels.iter().any(|t| t.max_element() > 0.0),
+            texels,
+            interpolation: options.interpolation,
+            full: std::sync::OnceLock::new(),
+            compensated: std::sync::OnceLock::new(),
+            cells_per_texel: options
+                .cells_per_texel
+                .map(|s| if s > 1 { s + s % 2 } else { 1 })
+                .unwrap_or_else(|| cells_per_texel(width, height, options.interpolation)),
+        };
         Ok(Self {
-            kind: Kind::Map(Map {
-                width,
-                height,
-                texels,
-                interpolation: options.interpolation,
-                distribution,
-            }),
+            kind: Kind::Map(Box::new(map)),
             rotation: options.rotation_deg.to_radians(),
         })
     }
@@ -315,7 +362,7 @@ impl EnvironmentLight {
     pub fn is_black(&self) -> bool {
         match &self.kind {
             Kind::Constant(c) => *c == Vec3::ZERO,
-            Kind::Map(m) => m.distribution.is_none(),
+            Kind::Map(m) => !m.emits,
         }
     }
 
@@ -363,13 +410,28 @@ impl EnvironmentLight {
         }
     }
 
-    /// Samples a direction with density ∝ luminance (module doc); `None` when the
-    /// environment is black (or, with vanishing probability, at a pole).
+    /// Samples a direction with density ∝ the lookup's channel average (module doc); `None`
+    /// when the environment is black (or, with vanishing probability, at a pole).
     #[inline]
     pub fn sample(&self, u: Vec2) -> Option<EnvSample> {
+        self.sample_with(u, EnvSampling::Full)
+    }
+
+    /// Builds the distribution `mode` draws from now rather than on the first sample (a
+    /// render calls it while it sets up, so that no worker waits for it).
+    pub fn prepare(&self, mode: EnvSampling) {
+        if let Kind::Map(m) = &self.kind {
+            m.distribution(mode);
+        }
+    }
+
+    /// [`sample`](Self::sample) from the distribution `mode`; the compensated one of a
+    /// constant environment (or of a map nowhere brighter than its mean) is empty: `None`.
+    #[inline]
+    pub fn sample_with(&self, u: Vec2, mode: EnvSampling) -> Option<EnvSample> {
         match &self.kind {
             Kind::Constant(c) => {
-                if *c == Vec3::ZERO {
+                if *c == Vec3::ZERO || mode == EnvSampling::Compensated {
                     return None;
                 }
                 let z = 1.0 - 2.0 * u.y;
@@ -382,7 +444,7 @@ impl EnvironmentLight {
                 })
             }
             Kind::Map(m) => {
-                let (uv, pdf_uv) = m.distribution.as_ref()?.sample(u);
+                let (uv, pdf_uv) = m.distribution(mode).as_ref()?.sample(u);
                 let sin_theta = (PI * uv.y).sin();
                 if pdf_uv <= 0.0 || sin_theta <= 0.0 {
                     return None;
@@ -400,16 +462,22 @@ impl EnvironmentLight {
     /// direction `d` (for MIS when a BSDF-sampled ray escapes).
     #[inline]
     pub fn pdf(&self, d: Vec3) -> f32 {
+        self.pdf_with(d, EnvSampling::Full)
+    }
+
+    /// The solid-angle density of [`sample_with`](Self::sample_with) `mode` at `d`.
+    #[inline]
+    pub fn pdf_with(&self, d: Vec3, mode: EnvSampling) -> f32 {
         match &self.kind {
             Kind::Constant(c) => {
-                if *c == Vec3::ZERO {
+                if *c == Vec3::ZERO || mode == EnvSampling::Compensated {
                     0.0
                 } else {
                     0.25 * FRAC_1_PI
                 }
             }
             Kind::Map(m) => {
-                let Some(dist) = &m.distribution else {
+                let Some(dist) = m.distribution(mode) else {
                     return 0.0;
                 };
                 let uv = self.direction_to_uv(d);
@@ -428,12 +496,18 @@ impl EnvironmentLight {
     /// the two calls.
     #[inline]
     pub fn radiance_and_pdf(&self, d: Vec3) -> (Vec3, f32) {
+        self.radiance_and_pdf_with(d, EnvSampling::Full)
+    }
+
+    /// [`radiance_and_pdf`](Self::radiance_and_pdf) with the density of `mode`.
+    #[inline]
+    pub fn radiance_and_pdf_with(&self, d: Vec3, mode: EnvSampling) -> (Vec3, f32) {
         match &self.kind {
-            Kind::Constant(_) => (self.radiance(d), self.pdf(d)),
+            Kind::Constant(_) => (self.radiance(d), self.pdf_with(d, mode)),
             Kind::Map(m) => {
                 let uv = self.direction_to_uv(d);
                 let radiance = m.lookup(uv);
-                let Some(dist) = &m.distribution else {
+                let Some(dist) = m.distribution(mode) else {
                     return (radiance, 0.0);
                 };
                 let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
@@ -522,10 +596,85 @@ fn check_options(o: &EnvOptions) -> Result<(), EnvironmentError> {
     Ok(())
 }
 
-/// Per cell, the luminance of the cell-averaged lookup times the row centre's sin θ.
-fn sampling_weights(w: usize, h: usize, texels: &[Vec3], interp: Interpolation) -> Vec<f32> {
-    let lum: Vec<f32> = texels.iter().map(|t| t.dot(LUMINANCE)).collect();
-    let averaged = match interp {
+/// Cells per texel along each axis of the sampling distribution (module doc's memory rule).
+fn cells_per_texel(w: usize, h: usize, interp: Interpolation) -> usize {
+    if interp == Interpolation::Nearest {
+        return 1;
+    }
+    [SUPERSAMPLING, 2, 1]
+        .into_iter()
+        .find(|&s| w.saturating_mul(h).saturating_mul(s * s) <= MAX_SAMPLING_CELLS)
+        .unwrap_or(1)
+}
+
+/// The weight of a radiance in the sampling distribution: the average of its channels.
+#[inline]
+fn channel_average(l: Vec3) -> f32 {
+    (l.x + l.y + l.z) * (1.0 / 3.0)
+}
+
+impl Map {
+    /// The distribution of `mode`, built on first use.
+    #[inline]
+    fn distribution(&self, mode: EnvSampling) -> &Option<Distribution2D> {
+        let cell = match mode {
+            EnvSampling::Full => &self.full,
+            EnvSampling::Compensated => &self.compensated,
+        };
+        cell.get_or_init(|| {
+            let s = self.cells_per_texel;
+            let weights = self.sampling_weights(mode);
+            Distribution2D::new(&weights, self.width * s, self.height * s)
+        })
+    }
+
+    /// Per cell of the sampling distribution, the channel average `c` of the lookup's mean
+    /// over the cell (or, compensated, `max(c − c̄, 0)` with `c̄` its mean over the sphere)
+    /// times the cell centre's sin θ (module doc).
+    fn sampling_weights(&self, mode: EnvSampling) -> Vec<f32> {
+        let s = self.cells_per_texel;
+        let (sw, sh) = (self.width * s, self.height * s);
+        let mut cells = if s == 1 {
+            texel_averages(self.width, self.height, &self.texels, self.interpolation)
+        } else {
+            let mut out = vec![0.0f32; sw * sh];
+            for (b, row) in out.chunks_exact_mut(sw).enumerate() {
+                let v = (b as f32 + 0.5) / sh as f32;
+                for (a, cell) in row.iter_mut().enumerate() {
+                    let u = (a as f32 + 0.5) / sw as f32;
+                    *cell = channel_average(self.lookup(Vec2::new(u, v)));
+                }
+            }
+            out
+        };
+        let sin_row = |b: usize| (PI * (b as f32 + 0.5) / sh as f32).sin();
+        if mode == EnvSampling::Compensated {
+            // The solid-angle mean: cells weighted by sin θ.
+            let (mut sum, mut area) = (0.0f64, 0.0f64);
+            for (b, row) in cells.chunks_exact(sw).enumerate() {
+                let sin = f64::from(sin_row(b));
+                sum += sin * row.iter().map(|&c| f64::from(c)).sum::<f64>();
+                area += sin * sw as f64;
+            }
+            let mean = (sum / area.max(f64::MIN_POSITIVE)) as f32;
+            for c in &mut cells {
+                *c = (*c - mean).max(0.0);
+            }
+        }
+        for (b, row) in cells.chunks_exact_mut(sw).enumerate() {
+            let sin = sin_row(b);
+            for c in row {
+                *c *= sin;
+            }
+        }
+        cells
+    }
+}
+
+/// Per texel, the channel average of the lookup averaged over the texel.
+fn texel_averages(w: usize, h: usize, texels: &[Vec3], interp: Interpolation) -> Vec<f32> {
+    let lum: Vec<f32> = texels.iter().map(|&t| channel_average(t)).collect();
+    match interp {
         Interpolation::Nearest => lum,
         Interpolation::Bilinear => {
             // ⅛ ¾ ⅛ along u (wrapping), then along v (clamped).
@@ -550,12 +699,7 @@ fn sampling_weights(w: usize, h: usize, texels: &[Vec3], interp: Interpolation) 
             }
             out
         }
-    };
-    averaged
-        .iter()
-        .enumerate()
-        .map(|(k, &l)| l * (PI * ((k / w) as f32 + 0.5) / h as f32).sin())
-        .collect()
+    }
 }
 
 #[cfg(test)]
