@@ -14,7 +14,7 @@ use crate::render::ground_truth::{self, OtherTime};
 use crate::render::projection::FilmProjection;
 use crate::render::{
     Aovs, Image, Progress, RenderError, RenderInputs, RenderSettings, RenderStats, partial,
-    progressive, render_film,
+    progressive,
 };
 use crate::scene::defaults::{self, Completed};
 use crate::scene::gltf::SceneSelection;
