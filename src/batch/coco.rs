@@ -135,7 +135,10 @@ pub fn gather(images: &[PathBuf], coco_path: &Path) -> Result<Coco, CocoError> {
     for (k, id) in names.values_mut().enumerate() {
         *id = k as u64 + 1;
     }
-    let folder = coco_path.parent().unwrap_or(Path::new(""));
+    let folder = coco_path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     let mut coco = Coco {
         info: CocoInfo {
             description: "glint: exact per-instance ground truth".into(),
