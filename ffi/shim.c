@@ -52,6 +52,13 @@
 /* Room for argument fields a differently configured library reads past our headers' struct. */
 #define GLINT_ARGS_SLACK 64
 
+/* The scene flag that lets a query's own filter run (glint_all_hits1). */
+#if GLINT_EMBREE_MAJOR == 4
+#define GLINT_SCENE_QUERY_FILTER_FLAG RTC_SCENE_FLAG_FILTER_FUNCTION_IN_ARGUMENTS
+#else
+#define GLINT_SCENE_QUERY_FILTER_FLAG RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION
+#endif
+
 struct glint_device {
     RTCDevice device;
 };
@@ -194,7 +201,13 @@ glint_scene *glint_scene_new(glint_device *d, glint_build_quality quality, int r
                              : quality == GLINT_BUILD_HIGH ? RTC_BUILD_QUALITY_HIGH
                                                            : RTC_BUILD_QUALITY_MEDIUM;
     rtcSetSceneBuildQuality(s->scene, q);
-    rtcSetSceneFlags(s->scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+    /* Every scene accepts a filter passed with a query, so that glint_all_hits1 can collect
+     * each hit a ray pierces; queries that pass none (all the others) run as before. */
+    int flags = GLINT_SCENE_QUERY_FILTER_FLAG;
+    if (robust) {
+        flags |= RTC_SCENE_FLAG_ROBUST;
+    }
+    rtcSetSceneFlags(s->scene, (enum RTCSceneFlags)flags);
     atomic_fetch_add(&live_handles, 1);
     return s;
 }
@@ -429,4 +442,83 @@ void glint_occluded8(const glint_scene *s, const glint_ray *rays, uint8_t *occlu
             occluded[base + k] = p.r.tfar[k] < 0.0f && isinf(p.r.tfar[k]);
         }
     }
+}
+
+/* ---- every hit along a ray -------------------------------------------------------------- */
+
+/* The query context glint_all_hits1 passes: Embree's own context first (padded, as a library
+ * configured with more instance levels writes past our headers' struct), then where the
+ * filter puts the hits. The filter receives a pointer to the first member, so it can reach
+ * the rest. */
+#if GLINT_EMBREE_MAJOR == 4
+typedef struct RTCRayQueryContext glint_embree_context;
+#else
+typedef struct RTCIntersectContext glint_embree_context;
+#endif
+
+typedef struct all_hits_context {
+    union {
+        glint_embree_context base;
+        char slack[sizeof(glint_embree_context) + GLINT_HIT_SLACK];
+    } embree;
+    glint_hit *hits;
+    size_t capacity;
+    size_t count;
+} all_hits_context;
+
+/* Embree's hit and ray packets are structs of arrays; its accessors (RTCHitN_u, ...) are C++
+ * only, so these read the same slots: the hit's Ng_x, Ng_y, Ng_z, u, v, primID, geomID, then
+ * instID per level, N lanes each; the ray's tfar after 8 other arrays. */
+#define GLINT_HITN_F(hit, n, i, slot) (((const float *)(const void *)(hit))[(slot) * (n) + (i)])
+#define GLINT_HITN_U(hit, n, i, slot) (((const unsigned *)(const void *)(hit))[(slot) * (n) + (i)])
+
+/* Records every candidate hit and rejects it, so that traversal goes on to the next. */
+static void collect_every_hit(const struct RTCFilterFunctionNArguments *args) {
+    all_hits_context *c = (all_hits_context *)(void *)args->context;
+    unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] == 0) {
+            continue;
+        }
+        if (c->count < c->capacity) {
+            glint_hit *h = &c->hits[c->count];
+            h->t = ((const float *)(const void *)args->ray)[8 * n + i];
+            h->ng[0] = GLINT_HITN_F(args->hit, n, i, 0);
+            h->ng[1] = GLINT_HITN_F(args->hit, n, i, 1);
+            h->ng[2] = GLINT_HITN_F(args->hit, n, i, 2);
+            h->u = GLINT_HITN_F(args->hit, n, i, 3);
+            h->v = GLINT_HITN_F(args->hit, n, i, 4);
+            h->prim_id = GLINT_HITN_U(args->hit, n, i, 5);
+            h->geom_id = GLINT_HITN_U(args->hit, n, i, 6);
+            h->inst_id = GLINT_HITN_U(args->hit, n, i, 7);
+        }
+        c->count += 1;
+        args->valid[i] = 0;
+    }
+}
+
+size_t glint_all_hits1(const glint_scene *s, const glint_ray *ray, glint_hit *hits,
+                       size_t capacity) {
+    all_hits_context c;
+    memset(&c, 0, sizeof c);
+    c.hits = hits;
+    c.capacity = capacity;
+    padded_rayhit p;
+    load_ray(&p.rh.ray, ray);
+    p.rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    p.rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    p.rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+#if GLINT_EMBREE_MAJOR == 4
+    rtcInitRayQueryContext(&c.embree.base);
+    GLINT_QUERY_ARGS(args, Intersect, 0);
+    args->context = &c.embree.base;
+    args->filter = collect_every_hit;
+    args->flags |= RTC_RAY_QUERY_FLAG_INVOKE_ARGUMENT_FILTER;
+    rtcIntersect1(s->scene, &p.rh, args);
+#else
+    rtcInitIntersectContext(&c.embree.base);
+    c.embree.base.filter = collect_every_hit;
+    rtcIntersect1(s->scene, &c.embree.base, &p.rh);
+#endif
+    return c.count;
 }

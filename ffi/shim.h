@@ -148,6 +148,16 @@ void glint_occluded1(const glint_scene *scene, const glint_ray *rays, uint8_t *o
 void glint_occluded8(const glint_scene *scene, const glint_ray *rays, uint8_t *occluded, size_t n,
                      int coherent);
 
+/**
+ * Every hit of one ray in [tnear, tfar], in no particular order (rtcIntersect1 with a filter
+ * that records each candidate and rejects it): writes up to capacity of them into hits and
+ * returns how many there are (call again with more room when that exceeds capacity). A
+ * triangle referenced from several leaves (spatial splits) may be listed more than once.
+ * glint_hit's fields are as for glint_intersect1.
+ */
+size_t glint_all_hits1(const glint_scene *scene, const glint_ray *ray, glint_hit *hits,
+                       size_t capacity);
+
 #ifdef __cplusplus
 }
 #endif

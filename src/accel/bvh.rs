@@ -145,6 +145,21 @@ impl Blas {
         })
     }
 
+    /// Calls `found` with every hit of `ray` in `[tnear, tfar]` (entry, `t`, `u`, `v`).
+    fn each(&self, ray: &Ray, mut found: impl FnMut(BlasHit)) {
+        if self.triangles.is_empty() {
+            return;
+        }
+        let exact = exact_ray(ray);
+        // Reporting every hit as a miss (+∞) keeps obvhs traversing the whole interval.
+        self.bvh.ray_traverse_miss(traversal_ray(ray), |_, id| {
+            if let Some((t, u, v)) = intersect_triangle(&self.triangles[id], &exact) {
+                found((id, t, u, v));
+            }
+            f32::INFINITY
+        });
+    }
+
     /// The unnormalised winding normal of entry `index`.
     fn normal(&self, index: usize) -> Vec3 {
         let tri = &self.triangles[index];
@@ -350,6 +365,45 @@ impl Accel for BvhAccel {
                 f32::INFINITY
             }
         })
+    }
+
+    fn all_hits(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        out.clear();
+        self.direct.each(ray, |(index, t, u, v)| {
+            let [geom_id, prim_id] = self.direct.ids[index];
+            out.push(Hit {
+                t,
+                geom_id,
+                prim_id,
+                instance: 0,
+                u,
+                v,
+                ng: self.direct.normal(index).normalize_or_zero(),
+            });
+        });
+        if !self.top_items.is_empty() {
+            self.top.ray_traverse_miss(traversal_ray(ray), |_, id| {
+                let item = &self.top_items[id];
+                let blas = &self.placed[item.blas as usize];
+                blas.each(&to_object(ray, &item.placement), |(index, t, u, v)| {
+                    let [geom_id, prim_id] = blas.ids[index];
+                    out.push(Hit {
+                        t,
+                        geom_id,
+                        prim_id,
+                        instance: item.instance,
+                        u,
+                        v,
+                        ng: item
+                            .placement
+                            .normal(blas.normal(index))
+                            .normalize_or_zero(),
+                    });
+                });
+                f32::INFINITY
+            });
+        }
+        super::order_all_hits(out);
     }
 
     fn triangle_count(&self) -> usize {

@@ -508,6 +508,10 @@ impl EmbreeAccel {
     }
 }
 
+/// Hits [`Accel::all_hits`] collects without allocating (a camera ray through a few dozen
+/// surfaces); more take a second query into a heap buffer.
+const ALL_HITS_ON_STACK: usize = 64;
+
 /// A shim query over `n` rays writing one `Raw` answer per ray.
 type QueryFn<Raw> =
     unsafe extern "C" fn(*const ffi::glint_scene, *const ffi::glint_ray, *mut Raw, usize, i32);
@@ -556,6 +560,31 @@ impl Accel for EmbreeAccel {
 
     fn occluded_many(&self, rays: &[Ray], out: &mut [bool], coherence: Coherence) {
         self.occluded_packets(rays, out, coherence);
+    }
+
+    fn all_hits(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        out.clear();
+        let raw_ray = to_raw(ray);
+        let mut stack = [ffi::glint_hit::default(); ALL_HITS_ON_STACK];
+        // SAFETY: `stack` holds ALL_HITS_ON_STACK hits, the capacity passed; the scene is
+        // committed.
+        let n = unsafe {
+            ffi::glint_all_hits1(self.raw.as_ptr(), &raw_ray, stack.as_mut_ptr(), stack.len())
+        };
+        let mut heap = Vec::new();
+        let raw: &[ffi::glint_hit] = if n <= stack.len() {
+            &stack[..n]
+        } else {
+            // More hits than the stack holds: the same query again with room for all of them.
+            heap.resize(n, ffi::glint_hit::default());
+            // SAFETY: `heap` holds n hits, the capacity passed; the scene is committed.
+            let m = unsafe {
+                ffi::glint_all_hits1(self.raw.as_ptr(), &raw_ray, heap.as_mut_ptr(), heap.len())
+            };
+            &heap[..m.min(n)]
+        };
+        out.extend(raw.iter().filter_map(|h| self.hit_of(ray, h)));
+        super::order_all_hits(out);
     }
 
     fn triangle_count(&self) -> usize {

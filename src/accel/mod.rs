@@ -295,6 +295,12 @@ pub trait Accel: Send + Sync {
         }
     }
 
+    /// Every hit of `ray` in `[tnear, tfar]`: an any-hit walk that never stops, for amodal
+    /// masks (every object a camera ray pierces, hidden or not). `out` is cleared, then holds
+    /// each hit triangle copy once, in increasing `t` (ties by geometry, copy, primitive), with
+    /// the same `t`, `u`, `v` and normal [`Accel::intersect`] would report for it.
+    fn all_hits(&self, ray: &Ray, out: &mut Vec<Hit>);
+
     /// Number of triangles the structure answers for (each placed copy counted).
     fn triangle_count(&self) -> usize;
 
@@ -446,4 +452,13 @@ pub fn barycentrics(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32
 #[inline]
 pub fn triangle_normal(v0: Vec3, v1: Vec3, v2: Vec3) -> Vec3 {
     (v1 - v0).cross(v2 - v0).normalize_or_zero()
+}
+
+/// Puts the hits of [`Accel::all_hits`] in their documented order and drops repeats of one
+/// triangle copy (a triangle that spatial splits reference from several leaves).
+pub(crate) fn order_all_hits(out: &mut Vec<Hit>) {
+    let key = |h: &Hit| (h.geom_id, h.instance, h.prim_id);
+    out.sort_by(|a, b| a.t.total_cmp(&b.t).then(key(a).cmp(&key(b))));
+    let mut seen = std::collections::HashSet::with_capacity(out.len());
+    out.retain(|h| seen.insert(key(h)));
 }

@@ -7,10 +7,13 @@
 //! - [`runner`]: runs a shard's jobs: shared scene loads, one thread pool, skips complete
 //!   outputs, isolates failures.
 //! - [`report`]: the per-job JSON report.
+//! - [`coco`]: the batch's COCO detection file (`--coco`), gathered from every job's
+//!   per-instance annotations.
 //! - [`claim`]: one lock file per job, so concurrent batches never render a job twice.
 //! - [`paths`]: outputs confined to an output root, output folders probed before rendering.
 
 pub mod claim;
+pub mod coco;
 pub mod jobs;
 pub mod paths;
 pub mod report;

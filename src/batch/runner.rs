@@ -381,6 +381,11 @@ pub fn output_is_complete(job: &Job) -> bool {
     if !meta.is_file() || meta.len() == 0 {
         return false;
     }
+    // Annotations asked for are part of the output.
+    if job.render.settings.aovs.annotations && !crate::output::sidecar::sidecar_path(path).is_file()
+    {
+        return false;
+    }
     let size = match crate::output::OutputFormat::from_path(path) {
         Ok(crate::output::OutputFormat::Png) => image::open(path)
             .ok()

@@ -119,6 +119,11 @@ impl Accel for RecordingAccel<'_> {
         self.inner.occluded_many(rays, occluded, coherence);
     }
 
+    fn all_hits(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        // Not a query the path tracer makes (annotations only): passed through unrecorded.
+        self.inner.all_hits(ray, out);
+    }
+
     fn triangle_count(&self) -> usize {
         self.inner.triangle_count()
     }

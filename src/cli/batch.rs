@@ -44,13 +44,22 @@ pub struct BatchArgs {
     /// No progress bar and no per-job lines (failures still print).
     #[arg(long, short)]
     pub quiet: bool,
+    /// Gather every job's per-instance annotations into one COCO detection file (turns on
+    /// --annotations for every job; see docs/ground-truth.md).
+    #[arg(long, value_name = "FILE.json")]
+    pub coco: Option<PathBuf>,
 }
 
 /// Runs `glint batch`. Fails (non-zero exit) when the job file is unusable or any job failed.
 pub fn run(args: BatchArgs) -> Result<(), CliError> {
     let file =
         batch::jobs::load_file(&args.jobs, &RenderOptions).map_err(CliError::from_display)?;
-    let jobs = file.jobs;
+    let mut jobs = file.jobs;
+    if args.coco.is_some() {
+        for job in &mut jobs {
+            job.render.settings.aovs.annotations = true;
+        }
+    }
     let shard = match args.shard {
         None => Shard::ALL,
         Some(ShardSpec::Fixed(shard)) => shard,
@@ -110,6 +119,22 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
     let report = batch::run(&jobs, &args.jobs, &options).map_err(CliError::from_display)?;
     if let Some(path) = &args.report {
         report.write_json(path).map_err(CliError::from_display)?;
+    }
+    if let Some(coco_path) = &args.coco
+        && report.all_succeeded()
+    {
+        let images: Vec<PathBuf> = report.jobs.iter().map(|j| j.output.clone()).collect();
+        let coco = batch::coco::gather(&images, coco_path).map_err(CliError::from_display)?;
+        batch::coco::write_coco(coco_path, &coco).map_err(CliError::from_display)?;
+        if !args.quiet {
+            eprintln!(
+                "{}: {} images, {} categories, {} annotations",
+                coco_path.display(),
+                coco.images.len(),
+                coco.categories.len(),
+                coco.annotations.len()
+            );
+        }
     }
     println!(
         "{}: shard {} ({} of {} jobs): {} rendered, {} skipped, {} failed{} in {:.2} s",

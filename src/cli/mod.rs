@@ -34,7 +34,8 @@ pub struct Cli {
 #[derive(clap::Subcommand)]
 pub enum Command {
     /// Render a glTF scene (or the built-in demo scene) to PNG or EXR.
-    Render(render::RenderArgs),
+    // Boxed: `glint render`'s many options would make every `Command` as large.
+    Render(Box<render::RenderArgs>),
     /// Measure ray throughput and build times.
     #[cfg(feature = "bench")]
     #[command(subcommand)]
@@ -54,7 +55,7 @@ impl Command {
     /// Runs the subcommand.
     pub fn run(self) -> Result<(), CliError> {
         match self {
-            Command::Render(args) => render::run(args),
+            Command::Render(args) => render::run(*args),
             #[cfg(feature = "bench")]
             Command::Bench(cmd) => bench::run(cmd),
             Command::Batch(args) => batch::run(args),

@@ -115,6 +115,15 @@ pub struct RenderArgs {
     /// --time − DT [default: 1/24; in a batch animation sweep, the frame interval].
     #[arg(long, value_name = "DT")]
     pub flow_dt: Option<f32>,
+    /// Per-instance annotations (visible and amodal masks as COCO RLE, exact areas, visible
+    /// fractions, 2D and 3D boxes) in the camera sidecar OUT.json (written with them); costs one any-hit walk per
+    /// camera sample. See docs/ground-truth.md.
+    #[arg(long)]
+    pub annotations: bool,
+    /// A category for the annotations of the instances whose node or mesh is named NAME
+    /// (repeatable; before the node's extras.category and the mesh's name).
+    #[arg(long = "category", value_name = "NAME=CATEGORY", value_parser = parse_category)]
+    pub category: Vec<(String, String)>,
     /// Texture filter, overriding the glTF samplers (for experiments): nearest, bilinear and
     /// bicubic read the full-resolution image only; trilinear and anisotropic use MIP maps and
     /// ray differentials.
@@ -310,7 +319,10 @@ impl RenderArgs {
                 seed: self.seed,
                 max_depth: self.max_depth,
                 threads: self.threads,
-                aovs: aov_selection(&self.aov),
+                aovs: AovSelection {
+                    annotations: self.annotations,
+                    ..aov_selection(&self.aov)
+                },
                 texture_filter: self.texture_filter,
                 filter: self.filter,
                 sampling: self.sampler,
@@ -338,6 +350,7 @@ impl RenderArgs {
                 sidecar: self.sidecar,
             }),
             flow_dt: self.flow_dt,
+            categories: self.category.clone(),
         })
     }
 }
@@ -392,5 +405,18 @@ fn aov_selection(names: &[AovName]) -> AovSelection {
         uv: names.contains(&AovName::Uv),
         flow: names.contains(&AovName::Flow),
         flow_backward: names.contains(&AovName::FlowBackward),
+        annotations: false,
+    }
+}
+
+/// `--category NAME=CATEGORY`.
+fn parse_category(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, category)) if !name.is_empty() && !category.is_empty() => {
+            Ok((name.to_string(), category.to_string()))
+        }
+        _ => Err(format!(
+            "'{text}': give NAME=CATEGORY (a node or mesh name, then its category)"
+        )),
     }
 }

@@ -59,6 +59,13 @@ impl Job {
         {
             return bad(format!("--flow-dt {dt}: give a positive number of seconds"));
         }
+        if partial && self.settings.aovs.annotations {
+            return bad(
+                "--annotations are counts over every sample of the image, not sums that merge: \
+                 render them without --sample-range/--shard"
+                    .into(),
+            );
+        }
         if partial && self.settings.adaptive.is_some() {
             return bad(
                 "--adaptive decides per pixel from the whole render's samples: render without \

@@ -81,6 +81,10 @@ pub struct Job {
     /// frame interval of an animation sweep): `flow` goes to `time + Δ`, `flow_backward` to
     /// `time − Δ`. `None`: [`DEFAULT_FLOW_DT`].
     pub flow_dt: Option<f32>,
+    /// Categories for per-instance annotations (`--category NAME=CATEGORY`): a node's or
+    /// mesh's name and the category its instances get
+    /// ([`crate::output::instances::annotate`]).
+    pub categories: Vec<(String, String)>,
 }
 
 /// The flow AOVs' time step when none is given: one frame at 24 frames per second.
@@ -107,6 +111,7 @@ impl Default for Job {
             samples: Samples::All,
             output: None,
             flow_dt: None,
+            categories: Vec::new(),
         }
     }
 }

@@ -5,6 +5,7 @@ use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
 use crate::accel::BuildOptions;
 use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
+use crate::output::instances::annotate;
 use crate::output::sidecar::{Sidecar, sidecar_path, write_sidecar};
 use crate::output::{
     OutputError, OutputFormat, PngDepth, PngOptions, write_exr_annotated, write_png,
@@ -19,6 +20,7 @@ use crate::scene::defaults::{self, Completed};
 use crate::scene::gltf::SceneSelection;
 use crate::scene::{Camera, Light};
 use glam::Vec3;
+use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -199,7 +201,7 @@ fn run_in_scene(
     let image_name = output
         .and_then(|o| o.path.file_name())
         .map_or(String::new(), |n| n.to_string_lossy().into_owned());
-    let sidecar = Sidecar::new(
+    let mut sidecar = Sidecar::new(
         &image_name,
         &projection,
         job.selection.time,
@@ -207,6 +209,11 @@ fn run_in_scene(
         flows.then(|| job.flow_dt.unwrap_or(super::DEFAULT_FLOW_DT)),
         ground_truth_channels(&aovs),
     );
+    // Per-instance annotations go into the sidecar, which they make written.
+    if let Some(counts) = &aovs.instance_samples {
+        let categories: BTreeMap<String, String> = job.categories.iter().cloned().collect();
+        sidecar.instances = annotate(&prepared.scene, counts, &categories);
+    }
     if let Some(out) = output {
         match OutputFormat::from_path(&out.path)? {
             OutputFormat::Png => write_png(
@@ -228,7 +235,7 @@ fn run_in_scene(
                 &[("glint.brdf", settings.brdf.name())],
             ),
         }?;
-        if out.sidecar {
+        if out.sidecar || settings.aovs.annotations {
             write_sidecar(&sidecar_path(&out.path), &sidecar)?;
         }
     }

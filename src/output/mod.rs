@@ -9,6 +9,7 @@ pub mod fingerprint;
 pub mod instances;
 pub mod partial;
 pub mod png;
+pub mod rle;
 pub mod sidecar;
 
 pub use atomic::write_atomically;

@@ -4,6 +4,7 @@
 //! `Σ w·L / Σ w` over its own samples only (filter importance sampling: no splats into
 //! neighbours), so the result does not depend on the order tiles finish in.
 
+use super::amodal::InstanceSamples;
 use super::ground_truth::GeometricSelection;
 use super::ids::{self, Coverage, PixelCoverage};
 use super::tiles::Tile;
@@ -69,6 +70,9 @@ pub struct AovSelection {
     pub flow: bool,
     /// Optical flow to `t − Δ`, pixels.
     pub flow_backward: bool,
+    /// Per-instance sample counts, visible and amodal ([`super::amodal`]), for per-instance
+    /// annotations (masks, areas, boxes): not an image, so allowed with PNG outputs.
+    pub annotations: bool,
 }
 
 impl AovSelection {
@@ -131,6 +135,8 @@ pub struct Aovs {
     pub flow: Option<Image<Vec2>>,
     /// See [`AovSelection::flow_backward`]; NaN where invalid.
     pub flow_backward: Option<Image<Vec2>>,
+    /// See [`AovSelection::annotations`].
+    pub instance_samples: Option<InstanceSamples>,
     /// Samples each pixel took: present when adaptive sampling ran ([`super::adaptive`]);
     /// EXR outputs carry it as the uint32 channel `samples`.
     pub samples: Option<Image<u32>>,
@@ -168,11 +174,13 @@ pub struct TileSums {
     pub instance_id: Vec<u32>,
     /// Centre-ray material IDs, as `instance_id`.
     pub material_id: Vec<u32>,
-    /// Per-pixel sample counts per instance ID, if coverage is selected.
+    /// Per-pixel sample counts per instance ID, if coverage or annotations are selected.
     pub coverage: Vec<PixelCoverage>,
     /// Centre-ray first hits: filled by the first pass only, when a geometric AOV is
     /// selected (empty otherwise).
     pub centre_hits: Vec<Option<Hit>>,
+    /// Per-pixel sample counts of every instance the rays pierce, if annotations are selected.
+    pub amodal: Vec<PixelCoverage>,
 }
 
 impl TileSums {
@@ -191,8 +199,9 @@ impl TileSums {
             alpha: vec![0.0; pixels],
             instance_id: Vec::new(),
             material_id: Vec::new(),
-            coverage: vec![PixelCoverage::new(); sized(aovs.coverage)],
             centre_hits: Vec::new(),
+            coverage: vec![PixelCoverage::new(); sized(aovs.coverage || aovs.annotations)],
+            amodal: vec![PixelCoverage::new(); sized(aovs.annotations)],
         }
     }
 
@@ -231,6 +240,8 @@ pub struct Film {
     material_id: Option<Image<u32>>,
     coverage: Option<Vec<PixelCoverage>>,
     centre_hits: Option<Image<Option<Hit>>>,
+    amodal: Option<Vec<PixelCoverage>>,
+    selection: AovSelection,
 }
 
 /// Floor of the relative-error denominator, as a fraction of the image's mean luminance:
@@ -256,12 +267,15 @@ impl Film {
             material_id: aovs
                 .material_id
                 .then(|| Image::filled(width, height, ids::NO_ID)),
-            coverage: aovs
-                .coverage
+            coverage: (aovs.coverage || aovs.annotations)
                 .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
             centre_hits: aovs
                 .any_geometric()
                 .then(|| Image::filled(width, height, None)),
+            amodal: aovs
+                .annotations
+                .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
+            selection: aovs,
         }
     }
 
@@ -321,16 +335,22 @@ impl Film {
                 }
             }
         }
-        if let Some(coverage) = &mut self.coverage {
-            let width = self.radiance_even.width as usize;
-            for (local, counts) in sums.coverage.iter().enumerate().take(tile.pixel_count()) {
+        fn add_counts(image: &mut [PixelCoverage], width: u32, tile: &Tile, src: &[PixelCoverage]) {
+            for (local, counts) in src.iter().enumerate().take(tile.pixel_count()) {
                 let (x, y) = tile.pixel(local);
-                if let Some(dst) = coverage.get_mut(y as usize * width + x as usize) {
+                if let Some(dst) = image.get_mut(y as usize * width as usize + x as usize) {
                     for &(id, n) in counts {
                         ids::count(dst, id, n);
                     }
                 }
             }
+        }
+        let width = self.radiance_even.width;
+        if let Some(coverage) = &mut self.coverage {
+            add_counts(coverage, width, tile, &sums.coverage);
+        }
+        if let Some(amodal) = &mut self.amodal {
+            add_counts(amodal, width, tile, &sums.amodal);
         }
     }
 
@@ -479,8 +499,18 @@ impl Film {
                 coverage: self
                     .coverage
                     .as_ref()
+                    .filter(|_| self.selection.coverage)
                     .map(|counts| ids::resolve(width, height, counts)),
                 centre_hits: self.centre_hits.clone(),
+                instance_samples: match (&self.coverage, &self.amodal) {
+                    (Some(visible), Some(amodal)) => Some(InstanceSamples {
+                        width,
+                        height,
+                        visible: visible.clone(),
+                        amodal: amodal.clone(),
+                    }),
+                    _ => None,
+                },
                 ..Aovs::default()
             },
         )

@@ -13,6 +13,7 @@
 //! Tiles render in parallel on a dedicated rayon pool of [`RenderSettings::threads`] threads.
 
 pub mod adaptive;
+pub mod amodal;
 pub mod camera;
 pub mod film;
 pub mod filter;

@@ -160,7 +160,8 @@ pub(crate) fn render_tile(
             let coherence = trace_batch(ctx, &s.rays, &mut s.hits, primary, batch, &mut counts);
             if primary {
                 let pixels = s.paths.iter().map(|p| p.pixel as usize);
-                super::ids::record_coverage(ctx, &mut sums, &s.hits, pixels);
+                super::ids::record_coverage(ctx, &mut sums, &s.hits, pixels.clone());
+                super::amodal::record_amodal(ctx, &mut sums, &s.rays, &s.hits, pixels, batch);
             }
             s.next_rays.clear();
             s.next_paths.clear();

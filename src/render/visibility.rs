@@ -296,6 +296,25 @@ impl Visibility {
         }
     }
 
+    /// Whether the camera ray `rays_index` of `batch` would accept `hit` (one of the hits
+    /// along it, not necessarily the first): the same culling and alpha decision, BLEND's
+    /// random number included, that [`Visibility::resolve_hits`] makes for that ray. Amodal
+    /// coverage ([`super::amodal`]) asks it of every surface a camera ray pierces.
+    pub(crate) fn camera_accepts(
+        &self,
+        ctx: &TileContext<'_>,
+        ray: &Ray,
+        hit: &Hit,
+        batch: RayBatch,
+        ray_index: usize,
+    ) -> bool {
+        if !self.rule(hit).is_some_and(|r| r.tests(true)) {
+            return true;
+        }
+        let key = ray_key(batch.key(self.seed, RayKind::Camera), ray_index);
+        self.accepts(ctx, ray, hit, true, key)
+    }
+
     #[inline]
     fn rule(&self, hit: &Hit) -> Option<&SurfaceRule> {
         self.rules.get(hit.geom_id as usize)

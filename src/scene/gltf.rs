@@ -339,6 +339,7 @@ fn load_bytes(
                 .is_some(),
         }));
     }
+    scene.nodes = node_infos(&placed, document.nodes().len());
     let shares = sharing::plan(&placed, &drawn);
     for (index, node) in placed.iter().enumerate() {
         if let Some(Some(drawn)) = drawn.get(index) {
@@ -464,4 +465,35 @@ fn primitive_geometry_bytes(primitive: &::gltf::Primitive<'_>) -> (u64, String) 
         .saturating_mul(GEOMETRY_BYTES_PER_VERTEX)
         .saturating_add(indices.saturating_mul(GEOMETRY_BYTES_PER_INDEX));
     (bytes, from)
+}
+
+/// The [`super::NodeInfo`] of every placed node that draws a mesh, by node index.
+fn node_infos(placed: &[nodes::PlacedNode<'_>], count: usize) -> Vec<Option<super::NodeInfo>> {
+    let mut infos = vec![None; count];
+    for node in placed {
+        let Some(mesh) = node.node.mesh() else {
+            continue;
+        };
+        let category = node
+            .node
+            .extras()
+            .as_ref()
+            .and_then(|raw| serde_json::from_str::<serde_json::Value>(raw.get()).ok())
+            .and_then(|extras| {
+                extras
+                    .get("category")
+                    .and_then(|c| c.as_str())
+                    .map(str::to_string)
+            });
+        if let Some(slot) = infos.get_mut(node.node.index()) {
+            *slot = Some(super::NodeInfo {
+                name: node.node.name().map(str::to_string),
+                mesh: mesh.index() as u32,
+                mesh_name: mesh.name().map(str::to_string),
+                category,
+                world_from_node: node.world_from_node,
+            });
+        }
+    }
+    infos
 }

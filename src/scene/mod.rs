@@ -37,6 +37,24 @@ pub struct Scene {
     pub cameras: Vec<Camera>,
     /// Punctual lights.
     pub lights: Vec<Light>,
+    /// What annotations say about each glTF node drawn with a mesh, by node index (empty for
+    /// scenes made in code): see [`NodeInfo`].
+    pub nodes: Vec<Option<NodeInfo>>,
+}
+
+/// A glTF node that draws a mesh, as per-instance annotations name it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NodeInfo {
+    /// The node's name, if it has one.
+    pub name: Option<String>,
+    /// The glTF mesh index it draws.
+    pub mesh: u32,
+    /// That mesh's name, if it has one.
+    pub mesh_name: Option<String>,
+    /// The string `extras.category` of the node, if it has one.
+    pub category: Option<String>,
+    /// World from node (the node's and its parents' transforms at the rendered time).
+    pub world_from_node: glam::Mat4,
 }
 
 /// One triangle mesh (one glTF primitive of one node, or of every node and instance that
