@@ -12,6 +12,7 @@ pub mod bench;
 pub mod bsdf;
 pub mod cli;
 pub mod color;
+pub mod denoise;
 pub mod converge;
 pub mod geometry;
 pub mod job;

@@ -106,6 +106,7 @@ class Scene:
         target_error: Optional[float] = None,
         max_spp: int = 65536,
         output: Optional[PathLike] = None,
+        denoise: bool = False,
     ) -> Dict[str, npt.NDArray[np.generic]]:
         """Renders the scene; the arguments and defaults are ``glint render``'s.
 
@@ -115,6 +116,8 @@ class Scene:
         ``albedo``/``normal`` (float32 H×W×3), ``depth`` (float32 H×W), ``instance_id`` and
         ``material_id`` (uint32 H×W), ``coverage_ids`` (uint32 H×W×K) with ``coverage``
         (float32 H×W×K). ``output`` also writes the image (.png or .exr, with the AOVs).
+        ``denoise=True`` denoises with Open Image Denoise (a build with the ``denoise``
+        feature): ``radiance`` is then the denoised image and ``noisy`` the one before.
 
         Raises GlintError (glint's message) for a bad camera index, light spec, environment or
         option; ValueError/TypeError for arguments of the wrong kind; KeyboardInterrupt on

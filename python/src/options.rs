@@ -28,7 +28,7 @@ pub const AOV_NAMES: [&str; 6] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 23] = [
+pub const RENDER_KEYS: [&str; 24] = [
     "width",
     "height",
     "spp",
@@ -52,6 +52,7 @@ pub const RENDER_KEYS: [&str; 23] = [
     "target_error",
     "max_spp",
     "output",
+    "denoise",
 ];
 
 /// Reads one keyword argument, `None` when absent or `None`.
@@ -176,6 +177,7 @@ pub fn job_from_kwargs(
             path,
             ..OutputSpec::default()
         }),
+        denoise: get::<bool>(kwargs, "denoise")?.unwrap_or(false),
         ..defaults
     })
 }

@@ -108,6 +108,11 @@ pub struct RenderArgs {
     /// Write 16 bits per channel to PNG.
     #[arg(long)]
     pub png16: bool,
+    /// Denoise the finished image with Intel Open Image Denoise (RT filter, with the albedo and
+    /// normal AOVs; a biased estimate): PNG gets the denoised image, EXR the denoised one with
+    /// the noisy radiance as layer noisy.R/G/B. Needs a build with `--features denoise`.
+    #[arg(long)]
+    pub denoise: bool,
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,
@@ -292,6 +297,7 @@ impl RenderArgs {
                 exposure_ev: self.exposure,
                 png16: self.png16,
             }),
+            denoise: self.denoise,
         })
     }
 }

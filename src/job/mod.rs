@@ -26,6 +26,7 @@ pub mod prepared;
 mod run;
 pub mod size;
 pub mod sources;
+pub mod studio;
 
 pub use crate::scene::SceneSource;
 pub use check::MAX_SPP;
@@ -77,6 +78,10 @@ pub struct Job {
     pub samples: Samples,
     /// Where the image goes; `None` renders without writing.
     pub output: Option<OutputSpec>,
+    /// Denoise the finished image with Open Image Denoise ([`crate::denoise`]; `--denoise`):
+    /// the albedo and normal AOVs are rendered for it, PNG gets the denoised image, EXR the
+    /// denoised one with the noisy radiance as its `noisy.R/G/B` layer.
+    pub denoise: bool,
 }
 
 impl Default for Job {
@@ -99,6 +104,7 @@ impl Default for Job {
             },
             samples: Samples::All,
             output: None,
+            denoise: false,
         }
     }
 }
@@ -136,6 +142,9 @@ pub enum JobError {
     /// The render failed.
     #[error(transparent)]
     Render(#[from] RenderError),
+    /// The image could not be denoised (or this build cannot denoise).
+    #[error(transparent)]
+    Denoise(#[from] crate::denoise::DenoiseError),
     /// One of the above, in the named scene.
     #[error("{scene}: {source}")]
     InScene {

@@ -5,7 +5,7 @@ use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
 use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
 use crate::output::{
-    OutputError, OutputFormat, PngDepth, PngOptions, write_exr_annotated, write_png,
+    OutputError, OutputFormat, PngDepth, PngOptions, write_exr_layers, write_png,
 };
 use crate::render::{
     Aovs, Image, Progress, RenderInputs, RenderSettings, RenderStats, partial, progressive,
@@ -56,6 +56,8 @@ pub struct JobOutput {
     /// The resolved images, for callers that keep them in memory (the Python package);
     /// `None` for a partial job, whose output is sums, not an image.
     pub images: Option<JobImages>,
+    /// Seconds the denoiser took, for a denoised job ([`Job::denoise`]).
+    pub denoise_seconds: Option<f64>,
 }
 
 /// Resolved images of a job ([`JobOutput::images`]).
@@ -65,6 +67,8 @@ pub struct JobImages {
     pub image: Image<Vec3>,
     /// The selected AOVs.
     pub aovs: Aovs,
+    /// For a denoised job, the radiance before denoising (`image` is then the denoised one).
+    pub noisy: Option<Image<Vec3>>,
 }
 
 /// Runs `job` on `prepared` (which must come from the job's scene and backend): checks the
@@ -119,7 +123,7 @@ fn run_in_scene(
     // Test-only (debug builds): a forced panic where the render starts, for tests/panics.rs.
     crate::panics::test_panic_point("render", &prepared.label);
     let output = job.output.as_ref();
-    let done = |samples, stats, note, images| JobOutput {
+    let done = |samples, stats, note, images, denoise_seconds| JobOutput {
         output: output.map(|o| o.path.clone()),
         width: settings.width,
         height: settings.height,
@@ -127,6 +131,7 @@ fn run_in_scene(
         stats,
         note,
         images,
+        denoise_seconds,
     };
     if let Some(samples) = job.partial_samples()? {
         let (part, stats) =
@@ -148,7 +153,7 @@ fn run_in_scene(
             crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
-        return Ok(done(samples, stats, note, None));
+        return Ok(done(samples, stats, note, None, None));
     }
     let (image, aovs, stats, samples, note) = match &job.samples {
         Samples::Progressive(rule) => {
@@ -167,6 +172,12 @@ fn run_in_scene(
             (image, aovs, stats, 0..settings.spp, String::new())
         }
     };
+    let (image, aovs, noisy, denoise_seconds) = if job.denoise {
+        let denoised = denoise_job(job, &image, aovs)?;
+        (denoised.0, denoised.1, Some(image), Some(denoised.2))
+    } else {
+        (image, aovs, None, None)
+    };
     if let Some(out) = output {
         match OutputFormat::from_path(&out.path)? {
             OutputFormat::Png => write_png(
@@ -181,15 +192,43 @@ fn run_in_scene(
                     },
                 },
             ),
-            OutputFormat::Exr => write_exr_annotated(
-                &out.path,
-                &image,
-                &aovs,
-                &[("glint.brdf", settings.brdf.name())],
-            ),
+            OutputFormat::Exr => {
+                let mut attributes = vec![("glint.brdf", settings.brdf.name())];
+                let mut layers = Vec::new();
+                if let Some(noisy) = &noisy {
+                    attributes.push(("glint.denoiser", crate::denoise::DENOISER));
+                    layers.push(("noisy", noisy));
+                }
+                write_exr_layers(&out.path, &image, &aovs, &layers, &attributes)
+            }
         }?;
     }
-    Ok(done(samples, stats, note, Some(JobImages { image, aovs })))
+    let images = JobImages { image, aovs, noisy };
+    Ok(done(samples, stats, note, Some(images), denoise_seconds))
+}
+
+/// Denoises a job's resolved `image` with its albedo and normal AOVs (which [`complete`]
+/// turned on for it) and its thread count. Returns the denoised image, the AOVs the job asked
+/// for (the auxiliary images it did not ask for are dropped) and the denoiser's seconds.
+fn denoise_job(
+    job: &Job,
+    image: &Image<Vec3>,
+    mut aovs: Aovs,
+) -> Result<(Image<Vec3>, Aovs, f64), JobError> {
+    let start = std::time::Instant::now();
+    let aux = match (&aovs.albedo, &aovs.normal) {
+        (Some(albedo), Some(normal)) => Some(crate::denoise::Auxiliary { albedo, normal }),
+        _ => None,
+    };
+    let denoised = crate::denoise::denoise(image, aux, job.settings.threads)?;
+    let seconds = start.elapsed().as_secs_f64();
+    if !job.settings.aovs.albedo {
+        aovs.albedo = None;
+    }
+    if !job.settings.aovs.normal {
+        aovs.normal = None;
+    }
+    Ok((denoised, aovs, seconds))
 }
 
 /// Completes the scene for `job`: its camera (asked for, first, or default), its environment
@@ -212,7 +251,7 @@ fn complete(
         .map(|e| prepared.environment(e))
         .transpose()?;
     let extra = job.extra_lights()?;
-    let environment = environment_for(scene, &extra, given, job.settings.integrator);
+    let environment = environment_for(scene, &extra, given, job.settings.integrator)?;
     if let Some(note) = environment.added {
         say(note);
     }
@@ -253,6 +292,13 @@ fn complete(
             width,
             height,
             light_units,
+            aovs: crate::render::AovSelection {
+                // The denoiser's auxiliary images (dropped again after it ran when the job
+                // did not ask for them).
+                albedo: job.settings.aovs.albedo || job.denoise,
+                normal: job.settings.aovs.normal || job.denoise,
+                ..job.settings.aovs
+            },
             ..job.settings
         },
     })

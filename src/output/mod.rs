@@ -10,7 +10,7 @@ pub mod partial;
 pub mod png;
 
 pub use atomic::write_atomically;
-pub use exr::{write_exr, write_exr_annotated};
+pub use exr::{write_exr, write_exr_annotated, write_exr_layers};
 pub use png::{PngDepth, PngOptions, write_png};
 
 use std::path::{Path, PathBuf};
