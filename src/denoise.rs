@@ -161,8 +161,10 @@ fn run_filter(
     Ok(output)
 }
 
-/// OIDN's CPU device with a thread count, the one place glint calls OIDN's C API directly.
+/// OIDN's CPU device with a thread count, the one place glint calls OIDN's C API directly (the
+/// oidn crate commits a device as it creates it, before a thread count could be set).
 #[cfg(feature = "denoise")]
+#[allow(unsafe_code)]
 mod oidn_cpu {
     use super::DenoiseError;
     use oidn::sys;

@@ -136,10 +136,7 @@ fn auxiliary_images_are_what_oidn_expects() {
     let normal = images.aovs.normal.unwrap();
     let alpha = images.aovs.alpha.unwrap();
     for a in &albedo.pixels {
-        assert!(
-            a.to_array().iter().all(|c| (0.0..=1.0).contains(c)),
-            "{a}"
-        );
+        assert!(a.to_array().iter().all(|c| (0.0..=1.0).contains(c)), "{a}");
     }
     let mut covered = 0;
     let mut unit = 0;
@@ -177,8 +174,18 @@ fn auxiliaries_do_not_hurt_on_a_constant_albedo_scene() {
     let meshes = vec![
         quad(Vec3::ZERO, Vec3::X * 2.0, Vec3::Z * 2.0, 0),
         quad(Vec3::new(0.0, 1.0, -2.0), Vec3::X * 2.0, Vec3::Y, 0),
-        quad(Vec3::new(-0.8, 0.5, 0.0), Vec3::new(0.3, 0.0, 0.3), Vec3::Y * 0.5, 0),
-        quad(Vec3::new(0.8, 0.4, 0.3), Vec3::new(0.3, 0.0, -0.3), Vec3::new(0.0, 0.4, 0.1), 0),
+        quad(
+            Vec3::new(-0.8, 0.5, 0.0),
+            Vec3::new(0.3, 0.0, 0.3),
+            Vec3::Y * 0.5,
+            0,
+        ),
+        quad(
+            Vec3::new(0.8, 0.4, 0.3),
+            Vec3::new(0.3, 0.0, -0.3),
+            Vec3::new(0.0, 0.4, 0.1),
+            0,
+        ),
     ];
     let mut scene = scene(meshes, vec![grey], Vec::new());
     scene.cameras.push(look_at(
@@ -242,8 +249,18 @@ fn the_command_line_denoises_or_fails_in_one_line() {
     let env = studio().display().to_string();
     let out = glint(
         &[
-            "render", "--width", "32", "--height", "18", "--spp", "2", "--env", &env,
-            "--denoise", "-o", "d.png",
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "18",
+            "--spp",
+            "2",
+            "--env",
+            &env,
+            "--denoise",
+            "-o",
+            "d.png",
         ],
         dir.path(),
     );
@@ -270,12 +287,31 @@ fn batch_and_library_denoise_as_the_command_line_does() {
     let env = studio().display().to_string();
     let cli = glint(
         &[
-            "render", "--width", "40", "--height", "24", "--spp", "4", "--seed", "3", "--env",
-            &env, "--threads", "2", "--denoise", "-o", "cli.exr", "-q",
+            "render",
+            "--width",
+            "40",
+            "--height",
+            "24",
+            "--spp",
+            "4",
+            "--seed",
+            "3",
+            "--env",
+            &env,
+            "--threads",
+            "2",
+            "--denoise",
+            "-o",
+            "cli.exr",
+            "-q",
         ],
         dir.path(),
     );
-    assert!(cli.status.success(), "{}", String::from_utf8_lossy(&cli.stderr));
+    assert!(
+        cli.status.success(),
+        "{}",
+        String::from_utf8_lossy(&cli.stderr)
+    );
     std::fs::write(
         dir.path().join("jobs.toml"),
         format!(
@@ -292,7 +328,10 @@ fn batch_and_library_denoise_as_the_command_line_does() {
     );
     let a = std::fs::read(dir.path().join("cli.exr")).unwrap();
     let b = std::fs::read(dir.path().join("batch.exr")).unwrap();
-    assert!(a == b, "the batch job's EXR differs from the command line's");
+    assert!(
+        a == b,
+        "the batch job's EXR differs from the command line's"
+    );
     // The library job: the same denoised radiance, the noisy one as the EXR's layer.
     let mut job = demo_job(4, 3, true);
     job.width = Some(40);
@@ -313,12 +352,19 @@ fn batch_and_library_denoise_as_the_command_line_does() {
     let (r, noisy_r) = (channel("R"), channel("noisy.R"));
     let lib_r: Vec<f32> = images.image.pixels.iter().map(|p| p.x).collect();
     let lib_noisy_r: Vec<f32> = images.noisy.unwrap().pixels.iter().map(|p| p.x).collect();
-    assert!(r.iter().zip(&lib_r).all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert!(
+        r.iter()
+            .zip(&lib_r)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
+    );
     assert!(
         noisy_r
             .iter()
             .zip(&lib_noisy_r)
             .all(|(a, b)| a.to_bits() == b.to_bits())
     );
-    assert!(r != noisy_r, "the denoised and the noisy radiance are the same");
+    assert!(
+        r != noisy_r,
+        "the denoised and the noisy radiance are the same"
+    );
 }

@@ -12,8 +12,8 @@ use crate::render::{
     self, AovSelection, FilterSpec, Image, PixelSampling, RenderInputs, RenderOutput,
     RenderSettings,
 };
-use crate::scene::SceneSource;
 use crate::scene;
+use crate::scene::SceneSource;
 use glam::Vec3;
 use std::path::PathBuf;
 
@@ -308,8 +308,7 @@ pub fn measure(
             rays: out.stats.rays.traced(),
             metrics: converge::metrics(&out.image, reference),
         });
-        if let (true, Some(albedo), Some(normal)) = (denoise, &out.aovs.albedo, &out.aovs.normal)
-        {
+        if let (true, Some(albedo), Some(normal)) = (denoise, &out.aovs.albedo, &out.aovs.normal) {
             let start = std::time::Instant::now();
             let image = crate::denoise::denoise(
                 &out.image,

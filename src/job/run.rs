@@ -4,9 +4,7 @@ use super::complete::environment_for;
 use super::{Job, JobError, PreparedScene, Samples, fixed_aspect, image_size};
 use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
-use crate::output::{
-    OutputError, OutputFormat, PngDepth, PngOptions, write_exr_layers, write_png,
-};
+use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr_layers, write_png};
 use crate::render::{
     Aovs, Image, Progress, RenderInputs, RenderSettings, RenderStats, partial, progressive,
     render_film,
