@@ -42,8 +42,8 @@ fn studio() -> PathBuf {
 /// under the studio environment, small.
 fn demo_job(spp: u32, seed: u64, denoise: bool) -> Job {
     Job {
-        width: Some(64),
-        height: Some(36),
+        width: Some(128),
+        height: Some(72),
         backend: BackendKind::Bvh,
         environment: Some(EnvironmentSource::File {
             path: studio(),
@@ -124,7 +124,8 @@ fn denoised_16_spp_beats_undenoised_64_spp_and_keeps_the_mean() {
 #[test]
 fn auxiliary_images_are_what_oidn_expects() {
     // Albedo in [0, 1]; normals of length at most 1, and unit length where a pixel's samples
-    // all see one flat or gently curved surface (most covered pixels). Needs no library.
+    // all see one flat or gently curved surface (most covered pixels: 68 % at 64×36). Needs
+    // no library.
     let mut job = demo_job(16, 0, false);
     job.settings.aovs = AovSelection {
         albedo: true,
@@ -148,7 +149,9 @@ fn auxiliary_images_are_what_oidn_expects() {
         }
     }
     assert!(covered > 100, "{covered}");
-    assert!(unit * 10 >= covered * 9, "{unit} of {covered} unit normals");
+    // Pixels over the normal-mapped wall, silhouettes and the small spheres average several
+    // normals; the floor, the walls' flat parts and the large spheres do not.
+    assert!(unit * 10 >= covered * 6, "{unit} of {covered} unit normals");
     // What glint hands OIDN is clamped into its ranges whatever the AOVs hold.
     assert!(
         denoise::albedo_input(&albedo)
@@ -284,10 +287,12 @@ fn batch_and_library_denoise_as_the_command_line_does() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
+    let demo_glb = root().join("scenes/demo.glb").display().to_string();
     let env = studio().display().to_string();
     let cli = glint(
         &[
             "render",
+            &demo_glb,
             "--width",
             "40",
             "--height",
@@ -315,8 +320,8 @@ fn batch_and_library_denoise_as_the_command_line_does() {
     std::fs::write(
         dir.path().join("jobs.toml"),
         format!(
-            "[[job]]\nwidth = 40\nheight = 24\nspp = 4\nseed = 3\nenv = \"{env}\"\n\
-             threads = 2\ndenoise = true\noutput = \"batch.exr\"\n"
+            "[[job]]\nscene = \"{demo_glb}\"\nwidth = 40\nheight = 24\nspp = 4\nseed = 3\nenv = \"{env}\"\n\
+             denoise = true\noutput = \"batch.exr\"\n"
         ),
     )
     .unwrap();
@@ -334,6 +339,7 @@ fn batch_and_library_denoise_as_the_command_line_does() {
     );
     // The library job: the same denoised radiance, the noisy one as the EXR's layer.
     let mut job = demo_job(4, 3, true);
+    job.scene = glint::job::SceneSource::File(root().join("scenes/demo.glb"));
     job.width = Some(40);
     job.height = Some(24);
     job.backend = BackendKind::default();
