@@ -96,7 +96,8 @@ fn interleave(image: &Image<Vec3>, f: impl Fn(f32) -> f32) -> Vec<f32> {
         .collect()
 }
 
-/// Denoises `color` with OIDN's RT filter on the CPU with `threads` threads (0: every core),
+/// Denoises `color` with OIDN's RT filter on the CPU with `threads` threads (0: as many as the
+/// process may use),
 /// with `aux` as auxiliary images when given (colour alone otherwise).
 pub fn denoise(
     color: &Image<Vec3>,
@@ -116,7 +117,7 @@ pub fn denoise(
             }
         }
     }
-    let pixels = run_filter(color, aux, threads)?;
+    let pixels = run_filter(color, aux, resolved_threads(threads))?;
     Ok(Image {
         width: color.width,
         height: color.height,
@@ -125,6 +126,17 @@ pub fn denoise(
             .map(|c| Vec3::new(c[0], c[1], c[2]))
             .collect(),
     })
+}
+
+/// The thread count OIDN is given: `threads`, or for 0 the cores this process may use (what
+/// the render's pool starts). OIDN's own default for 0 (its task scheduler's view of the
+/// machine) gave other bytes than any explicit count on this machine, while explicit counts
+/// 1 to 8 all gave the same bytes (docs/denoise.md, "Determinism").
+fn resolved_threads(threads: usize) -> usize {
+    if threads > 0 {
+        return threads;
+    }
+    std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
 }
 
 #[cfg(not(feature = "denoise"))]
@@ -169,8 +181,8 @@ mod oidn_cpu {
     use super::DenoiseError;
     use oidn::sys;
 
-    /// A committed CPU device running `threads` threads (0: OIDN's default, every core),
-    /// without pinning them to cores (the render's pool shares the machine).
+    /// A committed CPU device running `threads` threads, without pinning them to cores (the
+    /// render's pool shares the machine).
     pub fn device(threads: usize) -> Result<oidn::Device, DenoiseError> {
         let threads = i32::try_from(threads).unwrap_or(i32::MAX);
         // SAFETY: oidnNewDevice returns a new handle or null; a non-null handle is configured
