@@ -30,9 +30,6 @@ use glam::Vec3;
 /// Whether this build can denoise (the cargo feature `denoise`).
 pub const AVAILABLE: bool = cfg!(feature = "denoise");
 
-/// What the denoiser was, for file headers and summary lines.
-pub const DENOISER: &str = "Open Image Denoise 2, RT filter, HDR colour + albedo + normal";
-
 /// Why an image could not be denoised.
 #[derive(Debug, thiserror::Error)]
 pub enum DenoiseError {
@@ -129,9 +126,8 @@ pub fn denoise(
 }
 
 /// The thread count OIDN is given: `threads`, or for 0 the cores this process may use (what
-/// the render's pool starts). OIDN's own default for 0 (its task scheduler's view of the
-/// machine) gave other bytes than any explicit count on this machine, while explicit counts
-/// 1 to 8 all gave the same bytes (docs/denoise.md, "Determinism").
+/// the render's pool starts), rather than OIDN's own default (its task scheduler's view of the
+/// machine, which may count cores the process cannot use).
 fn resolved_threads(threads: usize) -> usize {
     if threads > 0 {
         return threads;

@@ -191,12 +191,12 @@ fn run_in_scene(
                 },
             ),
             OutputFormat::Exr => {
-                let mut attributes = vec![("glint.brdf", settings.brdf.name())];
-                let mut layers = Vec::new();
-                if let Some(noisy) = &noisy {
-                    attributes.push(("glint.denoiser", crate::denoise::DENOISER));
-                    layers.push(("noisy", noisy));
-                }
+                // One text attribute only: the exr crate keeps them in a hash map, so two
+                // would be written in an order that changes from run to run. A `noisy` layer
+                // is what marks a denoised file.
+                let attributes = [("glint.brdf", settings.brdf.name())];
+                let layers: Vec<(&str, &Image<Vec3>)> =
+                    noisy.iter().map(|noisy| ("noisy", noisy)).collect();
                 write_exr_layers(&out.path, &image, &aovs, &layers, &attributes)
             }
         }?;
