@@ -15,7 +15,6 @@ use glint::render::{AovSelection, Image, RenderSettings};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-#[allow(dead_code)]
 mod render_support;
 use render_support::{lambert, look_at, quad, scene};
 
