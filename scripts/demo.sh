@@ -2,8 +2,9 @@
 # The README's demo command: installs what is missing, builds glint in release mode and renders
 # the built-in demo scene to glint-demo.png in the current directory, lit by the studio
 # environment map in scenes/demo-env.hdr (CC0, see scenes/demo-env-LICENSE.txt) unless the
-# arguments choose an environment themselves (--env or --background). Other arguments go to
-# `glint render` as they are.
+# arguments choose an environment themselves (--env or --background), denoised with Open Image
+# Denoise (--denoise) when scripts/setup.sh got the library (the summary line then says
+# "denoised"). Other arguments go to `glint render` as they are.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
@@ -14,4 +15,10 @@ for arg in "$@"; do
     --env | --env=* | --background | --background=*) environment=() ;;
     esac
 done
-cargo run --locked --release --manifest-path "$root/Cargo.toml" -- render "${environment[@]}" "$@"
+features=()
+denoise=()
+if "$root/scripts/fetch-oidn.sh" --check 2>/dev/null; then
+    features=(--features denoise)
+    denoise=(--denoise)
+fi
+cargo run --locked --release --manifest-path "$root/Cargo.toml" "${features[@]}" -- render "${environment[@]}" "${denoise[@]}" "$@"

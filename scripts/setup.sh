@@ -3,6 +3,8 @@
 #   libembree-dev  Embree (3.13 on Debian 12, 4.x on Debian 13 / Ubuntu 24.04)
 #   libclang-dev   libclang for bindgen
 #   libfontconfig1-dev, fonts-dejavu-core   fonts for the plots of `glint converge`
+#   Open Image Denoise 2 (optional, for --denoise): libopenimagedenoise-dev where the distribution
+#   has it, else scripts/fetch-oidn.sh (the official build from the pyoidn wheel, into .oidn/)
 #   pkg-config, a C and a C++ compiler (the KTX2 tests' reference encoder), python3-pip (the Embree 4 check), python3-venv (the Python
 #   package's tests), curl (for rustup, if Rust is
 #   missing)
@@ -42,4 +44,16 @@ if ! command -v cargo >/dev/null 2>&1; then
         curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal >&2
     fi
 fi
+# Open Image Denoise 2 for `--denoise` (feature `denoise`): the distribution's package where it
+# has one (Debian 13, Ubuntu 24.04), else the official build from the pyoidn wheel, unpacked into
+# .oidn/ (scripts/fetch-oidn.sh). Without it glint still builds and runs; only --denoise fails.
+if ! pkg-config --exists 'OpenImageDenoise >= 2' 2>/dev/null &&
+    apt-cache policy libopenimagedenoise-dev 2>/dev/null | grep -q 'Candidate: [0-9]'; then
+    echo "setup: installing libopenimagedenoise-dev" >&2
+    sudo=""
+    if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends libopenimagedenoise-dev >/dev/null ||
+        echo "setup: libopenimagedenoise-dev did not install; trying the pyoidn wheel" >&2
+fi
+"$(dirname "$0")/fetch-oidn.sh" || echo "setup: continuing without Open Image Denoise (--denoise will not be available)" >&2
 echo "setup: ready ($(dpkg-query -W -f='${Package} ${Version}' libembree-dev 2>/dev/null || echo 'embree: ?'))" >&2

@@ -13,6 +13,7 @@ pub mod bsdf;
 pub mod cli;
 pub mod color;
 pub mod converge;
+pub mod denoise;
 pub mod geometry;
 pub mod gt_check;
 pub mod job;

@@ -21,8 +21,45 @@ fn args(out: std::path::PathBuf) -> ConvergeArgs {
         threads: 2,
         integrator: glint::render::Integrator::Path,
         asset_root: None,
+        env: None,
+        denoise: false,
         quiet: true,
     }
+}
+
+/// `--env` and `--denoise`: each setting gets a denoised curve beside its own, measured against
+/// the same reference (or, in a build without Open Image Denoise, the run fails naming the fix).
+#[test]
+fn denoise_adds_a_curve_per_setting() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("run");
+    let mut a = args(out.clone());
+    a.samplers = vec![PixelSampling::Sobol];
+    a.env = Some(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo-env.hdr"));
+    a.denoise = true;
+    let result = run(a);
+    if !glint::denoise::AVAILABLE {
+        let err = result.expect_err("no denoiser in this build");
+        assert!(err.to_string().contains("--features denoise"), "{err}");
+        return;
+    }
+    result.expect("converge");
+    let csv = std::fs::read_to_string(out.join("converge.csv")).expect("csv");
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let rmse = |setting: &str, spp: &str| -> f64 {
+        let row = rows
+            .iter()
+            .find(|r| r[0] == setting && r[1] == spp)
+            .unwrap_or_else(|| panic!("no row {setting} {spp}: {csv}"));
+        row[4].parse().expect("rmse")
+    };
+    assert_eq!(rows.len(), 6, "{csv}");
+    // At 1 spp the denoised image is closer to the reference than the noisy one.
+    assert!(rmse("bvh sobol box:0.5 denoised", "1") < rmse("bvh sobol box:0.5", "1"));
 }
 
 #[test]

@@ -115,6 +115,7 @@ class Scene:
         output: Optional[PathLike] = None,
         sidecar: bool = False,
         flow_dt: Optional[float] = None,
+        denoise: bool = False,
     ) -> Dict[str, npt.NDArray[np.generic]]:
         """Renders the scene; the arguments and defaults are ``glint render``'s.
 
@@ -128,6 +129,8 @@ class Scene:
         ``camera`` is the camera sidecar as a dict (K, poses, projection, time). ``output``
         also writes the image (.png or .exr, with the AOVs), and with ``sidecar=True`` its
         sidecar OUT.json beside it. Flow needs a scene loaded with ``time=``.
+        ``denoise=True`` denoises with Open Image Denoise (a build with the ``denoise``
+        feature): ``radiance`` is then the denoised image and ``noisy`` the one before.
 
         Raises GlintError (glint's message) for a bad camera index, light spec, environment or
         option; ValueError/TypeError for arguments of the wrong kind; KeyboardInterrupt on

@@ -2,7 +2,8 @@
 //!
 //! | key | dtype | shape |
 //! |---|---|---|
-//! | `radiance` | float32 | H×W×3, W/(m²·sr) |
+//! | `radiance` | float32 | H×W×3, W/(m²·sr) (denoised with `denoise=True`) |
+//! | `noisy` | float32 | H×W×3, the radiance before denoising (only with `denoise=True`) |
 //! | `alpha` | float32 | H×W, coverage: the fraction of camera samples that hit the scene |
 //! | `albedo`, `normal` | float32 | H×W×3 |
 //! | `depth` | float32 | H×W |
@@ -45,6 +46,9 @@ pub fn images_to_dict<'py>(py: Python<'py>, images: &JobImages) -> PyResult<Boun
     let dict = PyDict::new(py);
     let rgb = |v: Vec3| v.to_array();
     dict.set_item("radiance", planes(py, &images.image, rgb)?)?;
+    if let Some(noisy) = &images.noisy {
+        dict.set_item("noisy", planes(py, noisy, rgb)?)?;
+    }
     let aovs = &images.aovs;
     if let Some(alpha) = &aovs.alpha {
         dict.set_item("alpha", plane(py, alpha)?)?;

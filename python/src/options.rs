@@ -33,7 +33,7 @@ pub const AOV_NAMES: [&str; 11] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 28] = [
+pub const RENDER_KEYS: [&str; 29] = [
     "sidecar",
     "flow_dt",
     "width",
@@ -62,6 +62,7 @@ pub const RENDER_KEYS: [&str; 28] = [
     "clamp_indirect",
     "mis_compensation",
     "output",
+    "denoise",
 ];
 
 /// Reads one keyword argument, `None` when absent or `None`.
@@ -204,6 +205,7 @@ pub fn job_from_kwargs(
             ..OutputSpec::default()
         }),
         flow_dt: get(kwargs, "flow_dt")?,
+        denoise: get::<bool>(kwargs, "denoise")?.unwrap_or(false),
         ..defaults
     })
 }

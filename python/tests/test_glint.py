@@ -70,6 +70,30 @@ def test_render_equals_the_cli_exr_bit_for_bit(glint_bin, tmp_path, integrator):
     assert np.array_equal(bits(img["coverage"]), bits(fractions))
 
 
+def test_denoised_render_equals_the_cli_exr_bit_for_bit(glint_bin, tmp_path):
+    scene = glint.load()
+    try:
+        scene.render(width=8, height=6, spp=1, denoise=True)
+    except glint.GlintError as e:
+        if "built without Open Image Denoise" in str(e):
+            pytest.skip("glint was built without the `denoise` feature (Open Image Denoise)")
+        raise
+    exr = tmp_path / "cli.exr"
+    subprocess.run(
+        [str(glint_bin), "render", "-o", str(exr), "--width", "40", "--height", "24",
+         "--spp", "4", "--seed", "3", "--threads", "2", "--denoise", "--quiet"],
+        check=True,
+    )
+    cli = read_exr(exr)
+    img = scene.render(width=40, height=24, spp=4, seed=3, threads=2, denoise=True)
+    rgb = np.stack([cli[c] for c in "RGB"], axis=-1)
+    noisy = np.stack([cli[f"noisy.{c}"] for c in "RGB"], axis=-1)
+    assert np.array_equal(bits(img["radiance"]), bits(rgb))
+    assert np.array_equal(bits(img["noisy"]), bits(noisy))
+    assert not np.array_equal(img["radiance"], img["noisy"])
+    assert "albedo" not in img and "normal" not in img
+
+
 def test_defaults_are_the_cli_defaults(glint_bin, tmp_path):
     # Only the size is given: every other option is each side's default (integrator, spp,
     # seed, depth, sampler, filters), so equal pixels mean equal defaults. The Rust side:

@@ -11,7 +11,8 @@
 //! `normalize((v1 - v0) × (v2 - v0))`, front face counter-clockwise (for a placed mesh, the
 //! object-space normal carried to world space, so a mirroring placement keeps its front side).
 
-// The one module allowed `unsafe`: the Embree FFI wrapper (the crate denies it elsewhere).
+// One of the two modules allowed `unsafe`: the Embree FFI wrapper (the other is OIDN's device
+// set-up, `denoise::oidn_cpu`; the crate denies it elsewhere).
 #[cfg(feature = "embree")]
 #[allow(unsafe_code)]
 pub mod embree;

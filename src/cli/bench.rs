@@ -268,7 +268,7 @@ pub struct KernelBenchArgs {
     #[arg(long, default_value_t = 8)]
     pub max_depth: u32,
     /// Environment map for `--integrator path`; without it, a uniform white environment of
-    /// radiance 1 (the renderer's default for scenes without lights).
+    /// radiance 1 (`glint render --background 1,1,1`).
     #[arg(long)]
     pub env: Option<PathBuf>,
     /// Every file the glTF refers to must resolve inside this folder (as for glint render).

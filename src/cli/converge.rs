@@ -1,14 +1,19 @@
 //! `glint converge`: renders a scene at 1, 2, 4, … N samples per pixel for each compared
 //! setting (backend × sampler × filter), measures the error against a reference and writes
 //! `DIR/converge.csv`, `DIR/converge.png` (RMSE against time, log-log) and the fitted slope of
-//! log RMSE against log spp per setting.
+//! log RMSE against log spp per setting. `--env` lights the scene with an environment map (and
+//! then adds no default light); `--denoise` adds, for each setting, the curve of the same renders
+//! denoised with Open Image Denoise (time: render plus denoiser), against the same reference.
 
 use super::CliError;
 use crate::accel::{Accel, BackendKind, BuildOptions};
 use crate::converge::{self, Measurement};
-use crate::render::{self, FilterSpec, Image, PixelSampling, RenderSettings};
+use crate::render::{
+    self, AovSelection, FilterSpec, Image, PixelSampling, RenderInputs, RenderOutput,
+    RenderSettings,
+};
+use crate::scene;
 use crate::scene::SceneSource;
-use crate::scene::{self, Camera, Scene};
 use glam::Vec3;
 use std::path::PathBuf;
 
@@ -57,6 +62,14 @@ pub struct ConvergeArgs {
     /// Every file the glTF refers to must resolve inside this folder (as for glint render).
     #[arg(long, value_name = "DIR")]
     pub asset_root: Option<PathBuf>,
+    /// Environment map (equirectangular .hdr or .exr) lighting every render and the
+    /// reference; the scene then gets no default light.
+    #[arg(long, value_name = "FILE")]
+    pub env: Option<PathBuf>,
+    /// Also measure each render denoised with Open Image Denoise (RT filter, albedo and normal
+    /// AOVs), as the setting "... denoised"; its time is the render's plus the denoiser's.
+    #[arg(long)]
+    pub denoise: bool,
     /// Print nothing but errors and the slopes.
     #[arg(long, short)]
     pub quiet: bool,
@@ -101,9 +114,23 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
     let mut scene = source
         .load_with(&crate::scene::gltf::SceneSelection::default(), &options)
         .map_err(crate::job::JobError::from)?;
-    for added in scene::defaults::complete(&mut scene) {
-        say(added);
+    if args.denoise && !crate::denoise::AVAILABLE {
+        return Err(CliError::from_display(
+            crate::denoise::DenoiseError::Unavailable,
+        ));
     }
+    let environment = match &args.env {
+        Some(path) => Some(
+            crate::light::environment::EnvironmentLight::from_file(path, 1.0, 0.0)
+                .map_err(CliError::from_display)?,
+        ),
+        None => {
+            for added in scene::defaults::complete(&mut scene) {
+                say(added);
+            }
+            None
+        }
+    };
     let camera = scene
         .cameras
         .first()
@@ -158,7 +185,11 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
                     filter: *filter,
                     ..base
                 };
-                let out = render::render(&scene, accels[0].1.as_ref(), &camera, &settings, None)
+                let inputs = RenderInputs {
+                    environment: environment.as_ref(),
+                    ..RenderInputs::of_scene(&scene, accels[0].1.as_ref(), &camera)
+                };
+                let out = render_once(&inputs, &settings)
                     .map_err(|e| CliError::Usage(format!("{label}: {e}")))?;
                 say(format!(
                     "reference rendered in {:.1} s",
@@ -170,11 +201,13 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
         for (backend, accel) in &accels {
             for &sampler in &args.samplers {
                 let setting = format!("{backend} {sampler} {filter}");
+                let inputs = RenderInputs {
+                    environment: environment.as_ref(),
+                    ..RenderInputs::of_scene(&scene, accel.as_ref(), &camera)
+                };
                 rows.extend(
                     measure(
-                        &scene,
-                        accel.as_ref(),
-                        &camera,
+                        &inputs,
                         &RenderSettings {
                             sampling: sampler,
                             filter: *filter,
@@ -184,6 +217,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
                         &reference,
                         &setting,
                         args.max_spp,
+                        args.denoise,
                     )
                     .map_err(|e| CliError::Usage(format!("{label}: {e}")))?,
                 );
@@ -212,16 +246,38 @@ pub fn run(args: ConvergeArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Renders at 1, 2, 4, … `max_spp` samples (and `max_spp` itself) and measures each.
+/// Renders `inputs` with `settings` and resolves the film.
+fn render_once(
+    inputs: &RenderInputs<'_>,
+    settings: &RenderSettings,
+) -> Result<RenderOutput, render::RenderError> {
+    let (film, stats) = render::render_film(inputs, settings, 0..settings.spp, None)?;
+    let (image, aovs) = film.resolve();
+    Ok(RenderOutput { image, aovs, stats })
+}
+
+/// Why a measurement failed: the render or the denoiser.
+#[derive(Debug, thiserror::Error)]
+pub enum MeasureError {
+    /// The render failed.
+    #[error(transparent)]
+    Render(#[from] render::RenderError),
+    /// The denoiser failed.
+    #[error(transparent)]
+    Denoise(#[from] crate::denoise::DenoiseError),
+}
+
+/// Renders at 1, 2, 4, … `max_spp` samples (and `max_spp` itself) and measures each; with
+/// `denoise`, also each render denoised (setting "`setting` denoised", the denoiser's time
+/// added to the render's).
 pub fn measure(
-    scene: &Scene,
-    accel: &dyn Accel,
-    camera: &Camera,
+    inputs: &RenderInputs<'_>,
     settings: &RenderSettings,
     reference: &Image<Vec3>,
     setting: &str,
     max_spp: u32,
-) -> Result<Vec<Measurement>, render::RenderError> {
+    denoise: bool,
+) -> Result<Vec<Measurement>, MeasureError> {
     let mut counts: Vec<u32> = std::iter::successors(Some(1u32), |&n| n.checked_mul(2))
         .take_while(|&n| n <= max_spp)
         .collect();
@@ -229,22 +285,46 @@ pub fn measure(
         counts.push(max_spp);
     }
     let mut rows = Vec::new();
+    let mut denoised = Vec::new();
+    let aovs = AovSelection {
+        albedo: settings.aovs.albedo || denoise,
+        normal: settings.aovs.normal || denoise,
+        ..settings.aovs
+    };
     for spp in counts {
-        let out = render::render(
-            scene,
-            accel,
-            camera,
-            &RenderSettings { spp, ..*settings },
-            None,
+        let out = render_once(
+            inputs,
+            &RenderSettings {
+                spp,
+                aovs,
+                ..*settings
+            },
         )?;
+        let seconds = out.stats.elapsed.as_secs_f64();
         rows.push(Measurement {
             setting: setting.to_string(),
             spp,
-            seconds: out.stats.elapsed.as_secs_f64(),
+            seconds,
             rays: out.stats.rays.traced(),
             metrics: converge::metrics(&out.image, reference),
         });
+        if let (true, Some(albedo), Some(normal)) = (denoise, &out.aovs.albedo, &out.aovs.normal) {
+            let start = std::time::Instant::now();
+            let image = crate::denoise::denoise(
+                &out.image,
+                Some(crate::denoise::Auxiliary { albedo, normal }),
+                settings.threads,
+            )?;
+            denoised.push(Measurement {
+                setting: format!("{setting} denoised"),
+                spp,
+                seconds: seconds + start.elapsed().as_secs_f64(),
+                rays: out.stats.rays.traced(),
+                metrics: converge::metrics(&image, reference),
+            });
+        }
     }
+    rows.extend(denoised);
     Ok(rows)
 }
 

@@ -41,8 +41,12 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let result = job::run(&job, &prepared, options);
     bar.finish();
     let done = result?;
+    let denoised = done
+        .denoise_seconds
+        .map(|s| format!(", denoised (Open Image Denoise, {s:.2} s)"))
+        .unwrap_or_default();
     say(format!(
-        "wrote {} ({}×{}, {} spp, {}, {} sampler, {} filter): {}{}",
+        "wrote {} ({}×{}, {} spp, {}, {} sampler, {} filter{denoised}): {}{}",
         output_path(&args).display(),
         done.width,
         done.height,

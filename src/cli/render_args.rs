@@ -136,6 +136,11 @@ pub struct RenderArgs {
     /// Write 16 bits per channel to PNG.
     #[arg(long)]
     pub png16: bool,
+    /// Denoise the finished image with Intel Open Image Denoise (RT filter, with the albedo and
+    /// normal AOVs; a biased estimate): PNG gets the denoised image, EXR the denoised one with
+    /// the noisy radiance as layer noisy.R/G/B. Needs a build with `--features denoise`.
+    #[arg(long)]
+    pub denoise: bool,
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,
@@ -351,6 +356,7 @@ impl RenderArgs {
             }),
             flow_dt: self.flow_dt,
             categories: self.category.clone(),
+            denoise: self.denoise,
         })
     }
 }

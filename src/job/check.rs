@@ -73,6 +73,16 @@ impl Job {
                     .into(),
             );
         }
+        if self.denoise && !crate::denoise::AVAILABLE {
+            return Err(crate::denoise::DenoiseError::Unavailable.into());
+        }
+        if partial && self.denoise {
+            return bad(
+                "--denoise works on a whole image, not on sums that merge: render without \
+                 --sample-range/--shard"
+                    .into(),
+            );
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width and --height must be at least 1".into());
         }

@@ -26,6 +26,7 @@ pub mod prepared;
 mod run;
 pub mod size;
 pub mod sources;
+pub mod studio;
 
 pub use crate::scene::SceneSource;
 pub use check::MAX_SPP;
@@ -85,6 +86,10 @@ pub struct Job {
     /// mesh's name and the category its instances get
     /// ([`crate::output::instances::annotate`]).
     pub categories: Vec<(String, String)>,
+    /// Denoise the finished image with Open Image Denoise ([`crate::denoise`]; `--denoise`):
+    /// the albedo and normal AOVs are rendered for it, PNG gets the denoised image, EXR the
+    /// denoised one with the noisy radiance as its `noisy.R/G/B` layer.
+    pub denoise: bool,
 }
 
 /// The flow AOVs' time step when none is given: one frame at 24 frames per second.
@@ -112,6 +117,7 @@ impl Default for Job {
             output: None,
             flow_dt: None,
             categories: Vec::new(),
+            denoise: false,
         }
     }
 }
@@ -149,6 +155,9 @@ pub enum JobError {
     /// The render failed.
     #[error(transparent)]
     Render(#[from] RenderError),
+    /// The image could not be denoised (or this build cannot denoise).
+    #[error(transparent)]
+    Denoise(#[from] crate::denoise::DenoiseError),
     /// One of the above, in the named scene.
     #[error("{scene}: {source}")]
     InScene {

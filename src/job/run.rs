@@ -7,9 +7,7 @@ use crate::light::LightUnits;
 use crate::output::fingerprint::SceneTag;
 use crate::output::instances::annotate;
 use crate::output::sidecar::{Sidecar, sidecar_path, write_sidecar};
-use crate::output::{
-    OutputError, OutputFormat, PngDepth, PngOptions, write_exr_annotated, write_png,
-};
+use crate::output::{OutputError, OutputFormat, PngDepth, PngOptions, write_exr_layers, write_png};
 use crate::render::ground_truth::{self, OtherTime};
 use crate::render::projection::FilmProjection;
 use crate::render::{
@@ -66,6 +64,8 @@ pub struct JobOutput {
     /// What the camera sidecar says about the image (written beside it with
     /// [`super::OutputSpec::sidecar`]); `None` for a partial job.
     pub sidecar: Option<Sidecar>,
+    /// Seconds the denoiser took, for a denoised job ([`Job::denoise`]).
+    pub denoise_seconds: Option<f64>,
 }
 
 /// Resolved images of a job ([`JobOutput::images`]).
@@ -77,6 +77,8 @@ pub struct JobImages {
     pub aovs: Aovs,
     /// The camera sidecar of the image (also [`JobOutput::sidecar`]).
     pub sidecar: Sidecar,
+    /// For a denoised job, the radiance before denoising (`image` is then the denoised one).
+    pub noisy: Option<Image<Vec3>>,
 }
 
 /// Runs `job` on `prepared` (which must come from the job's scene and backend): checks the
@@ -131,7 +133,7 @@ fn run_in_scene(
     // Test-only (debug builds): a forced panic where the render starts, for tests/panics.rs.
     crate::panics::test_panic_point("render", &prepared.label);
     let output = job.output.as_ref();
-    let done = |samples, stats, note, images, sidecar| JobOutput {
+    let done = |samples, stats, note, images, sidecar, denoise_seconds| JobOutput {
         output: output.map(|o| o.path.clone()),
         width: settings.width,
         height: settings.height,
@@ -140,6 +142,7 @@ fn run_in_scene(
         note,
         images,
         sidecar,
+        denoise_seconds,
     };
     if let Some(samples) = job.partial_samples()? {
         let (part, stats) =
@@ -161,7 +164,7 @@ fn run_in_scene(
             crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);
-        return Ok(done(samples, stats, note, None, None));
+        return Ok(done(samples, stats, note, None, None, None));
     }
     let (image, mut aovs, stats, samples, note) = match &job.samples {
         Samples::Progressive(rule) => {
@@ -214,6 +217,12 @@ fn run_in_scene(
         let categories: BTreeMap<String, String> = job.categories.iter().cloned().collect();
         sidecar.instances = annotate(&prepared.scene, counts, &categories);
     }
+    let (image, aovs, noisy, denoise_seconds) = if job.denoise {
+        let denoised = denoise_job(job, &image, aovs)?;
+        (denoised.0, denoised.1, Some(image), Some(denoised.2))
+    } else {
+        (image, aovs, None, None)
+    };
     if let Some(out) = output {
         match OutputFormat::from_path(&out.path)? {
             OutputFormat::Png => write_png(
@@ -228,12 +237,15 @@ fn run_in_scene(
                     },
                 },
             ),
-            OutputFormat::Exr => write_exr_annotated(
-                &out.path,
-                &image,
-                &aovs,
-                &[("glint.brdf", settings.brdf.name())],
-            ),
+            OutputFormat::Exr => {
+                // One text attribute only: the exr crate keeps them in a hash map, so two
+                // would be written in an order that changes from run to run. A `noisy` layer
+                // is what marks a denoised file.
+                let attributes = [("glint.brdf", settings.brdf.name())];
+                let layers: Vec<(&str, &Image<Vec3>)> =
+                    noisy.iter().map(|noisy| ("noisy", noisy)).collect();
+                write_exr_layers(&out.path, &image, &aovs, &layers, &attributes)
+            }
         }?;
         if out.sidecar || settings.aovs.annotations {
             write_sidecar(&sidecar_path(&out.path), &sidecar)?;
@@ -247,8 +259,10 @@ fn run_in_scene(
             image,
             aovs,
             sidecar: sidecar.clone(),
+            noisy,
         }),
         Some(sidecar),
+        denoise_seconds,
     ))
 }
 
@@ -340,6 +354,30 @@ struct Posed {
     projection: FilmProjection,
 }
 
+/// Denoises a job's resolved `image` with its albedo and normal AOVs (which [`complete`]
+/// turned on for it) and its thread count. Returns the denoised image, the AOVs the job asked
+/// for (the auxiliary images it did not ask for are dropped) and the denoiser's seconds.
+fn denoise_job(
+    job: &Job,
+    image: &Image<Vec3>,
+    mut aovs: Aovs,
+) -> Result<(Image<Vec3>, Aovs, f64), JobError> {
+    let start = std::time::Instant::now();
+    let aux = match (&aovs.albedo, &aovs.normal) {
+        (Some(albedo), Some(normal)) => Some(crate::denoise::Auxiliary { albedo, normal }),
+        _ => None,
+    };
+    let denoised = crate::denoise::denoise(image, aux, job.settings.threads)?;
+    let seconds = start.elapsed().as_secs_f64();
+    if !job.settings.aovs.albedo {
+        aovs.albedo = None;
+    }
+    if !job.settings.aovs.normal {
+        aovs.normal = None;
+    }
+    Ok((denoised, aovs, seconds))
+}
+
 /// Completes the scene for `job`: its camera (asked for, first, or default), its environment
 /// ([`environment_for`]), its lights (the scene's and the job's, or the default lights when
 /// neither they nor an environment light it) and its image size, announcing what was added.
@@ -360,7 +398,7 @@ fn complete(
         .map(|e| prepared.environment(e))
         .transpose()?;
     let extra = job.extra_lights()?;
-    let environment = environment_for(scene, &extra, given, job.settings.integrator);
+    let environment = environment_for(scene, &extra, given, job.settings.integrator)?;
     if let Some(note) = environment.added {
         say(note);
     }
@@ -401,6 +439,13 @@ fn complete(
             width,
             height,
             light_units,
+            aovs: crate::render::AovSelection {
+                // The denoiser's auxiliary images (dropped again after it ran when the job
+                // did not ask for them).
+                albedo: job.settings.aovs.albedo || job.denoise,
+                normal: job.settings.aovs.normal || job.denoise,
+                ..job.settings.aovs
+            },
             ..job.settings
         },
     })

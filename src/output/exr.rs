@@ -1,7 +1,8 @@
 //! OpenEXR output: linear radiance as 32-bit floats, one part, ZIP-compressed scan lines.
 //!
 //! Channels: `R`, `G`, `B` (radiance, W/(m²·sr)), plus for each selected AOV
-//! `albedo.R/G/B`, `normal.X/Y/Z` (world space) and `depth.Z` (scene units), named with the
+//! `albedo.R/G/B`, `normal.X/Y/Z` (world space) and `depth.Z` (scene units), and for a denoised
+//! render the radiance before denoising as `noisy.R/G/B` (`R`, `G`, `B` are then denoised), named with the
 //! layer-prefix convention OpenEXR readers group into layers; `A`, the coverage (the
 //! filter-weighted fraction of camera samples that hit the scene: with the environment
 //! hidden, `--env-hidden`, the colour is premultiplied by it, as OpenEXR's compositing
@@ -40,6 +41,18 @@ pub fn write_exr_annotated(
     aovs: &Aovs,
     attributes: &[(&str, &str)],
 ) -> Result<(), OutputError> {
+    write_exr_layers(path, image, aovs, &[], attributes)
+}
+
+/// [`write_exr_annotated`] with further RGB layers, `(name, image)`, written as `name.R`,
+/// `name.G`, `name.B` (a denoised render keeps its noisy radiance as the layer `noisy`).
+pub fn write_exr_layers(
+    path: &std::path::Path,
+    image: &Image<Vec3>,
+    aovs: &Aovs,
+    layers: &[(&str, &Image<Vec3>)],
+    attributes: &[(&str, &str)],
+) -> Result<(), OutputError> {
     let encode_error = |message: String| OutputError::Encode {
         path: path.to_path_buf(),
         format: "EXR",
@@ -62,6 +75,10 @@ pub fn write_exr_annotated(
         Ok(())
     };
     add_vec3(["R", "G", "B"], image)?;
+    for (name, layer) in layers {
+        let names = ["R", "G", "B"].map(|c| format!("{name}.{c}"));
+        add_vec3([&names[0], &names[1], &names[2]], layer)?;
+    }
     if let Some(albedo) = &aovs.albedo {
         add_vec3(["albedo.R", "albedo.G", "albedo.B"], albedo)?;
     }

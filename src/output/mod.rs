@@ -13,7 +13,7 @@ pub mod rle;
 pub mod sidecar;
 
 pub use atomic::write_atomically;
-pub use exr::{write_exr, write_exr_annotated};
+pub use exr::{write_exr, write_exr_annotated, write_exr_layers};
 pub use png::{PngDepth, PngOptions, write_png};
 pub use sidecar::{Sidecar, read_sidecar, sidecar_path, write_sidecar};
 
