@@ -20,5 +20,10 @@ denoise=()
 if "$root/scripts/fetch-oidn.sh" --check 2>/dev/null; then
     features=(--features denoise)
     denoise=(--denoise)
+    # cargo reads .cargo/config.toml (which names .oidn) from the current folder upwards, not
+    # from the manifest's: the demo runs from any folder, so the library's place is passed here.
+    if [ -z "${OIDN_DIR:-}" ] && [ -d "$root/.oidn" ]; then
+        export OIDN_DIR="$root/.oidn"
+    fi
 fi
 cargo run --locked --release --manifest-path "$root/Cargo.toml" "${features[@]}" -- render "${environment[@]}" "${denoise[@]}" "$@"
