@@ -115,6 +115,8 @@ class Scene:
         output: Optional[PathLike] = None,
         sidecar: bool = False,
         flow_dt: Optional[float] = None,
+        annotations: bool = False,
+        categories: Optional[Dict[str, str]] = None,
         denoise: bool = False,
     ) -> Dict[str, npt.NDArray[np.generic]]:
         """Renders the scene; the arguments and defaults are ``glint render``'s.
@@ -129,6 +131,10 @@ class Scene:
         ``camera`` is the camera sidecar as a dict (K, poses, projection, time). ``output``
         also writes the image (.png or .exr, with the AOVs), and with ``sidecar=True`` its
         sidecar OUT.json beside it. Flow needs a scene loaded with ``time=``.
+        ``annotations=True`` adds per-instance visible and amodal masks (COCO RLE), areas,
+        visible fractions and boxes as ``instances`` (also ``camera["instances"]``, and the
+        sidecar's with ``output``); ``categories`` maps node or mesh names to categories
+        (``--category``).
         ``denoise=True`` denoises with Open Image Denoise (a build with the ``denoise``
         feature): ``radiance`` is then the denoised image and ``noisy`` the one before.
 

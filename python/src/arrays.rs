@@ -88,6 +88,10 @@ pub fn images_to_dict<'py>(py: Python<'py>, images: &JobImages) -> PyResult<Boun
     let text = serde_json::to_string(&images.sidecar)
         .map_err(|e| crate::glint_error(format!("camera record: {e}")))?;
     let camera = py.import("json")?.call_method1("loads", (text,))?;
+    // With annotations, the sidecar's per-instance list is also a key of its own.
+    if aovs.instance_samples.is_some() {
+        dict.set_item("instances", camera.get_item("instances")?)?;
+    }
     dict.set_item("camera", camera)?;
     if let Some(coverage) = &aovs.coverage {
         let same = |p: [u32; COVERAGE_LAYERS]| p;

@@ -33,8 +33,10 @@ pub const AOV_NAMES: [&str; 11] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 29] = [
+pub const RENDER_KEYS: [&str; 31] = [
     "sidecar",
+    "annotations",
+    "categories",
     "flow_dt",
     "width",
     "height",
@@ -128,7 +130,15 @@ pub fn job_from_kwargs(
         Some(text) => parsed("sampler", &text, str::parse::<PixelSampling>)?,
         None => defaults.settings.sampling,
     };
-    let aovs = aov_selection(&get::<Vec<String>>(kwargs, "aovs")?.unwrap_or_default())?;
+    let mut aovs = aov_selection(&get::<Vec<String>>(kwargs, "aovs")?.unwrap_or_default())?;
+    aovs.annotations = get::<bool>(kwargs, "annotations")?.unwrap_or(false);
+    // `categories={"NodeOrMeshName": "category"}`, as `--category NAME=CATEGORY` (sorted by
+    // name, so the order of a dict never matters).
+    let categories: Vec<(String, String)> =
+        get::<std::collections::BTreeMap<String, String>>(kwargs, "categories")?
+            .unwrap_or_default()
+            .into_iter()
+            .collect();
     let mut lights: Vec<LightSource> = get::<Vec<String>>(kwargs, "lights")?
         .unwrap_or_default()
         .into_iter()
@@ -205,6 +215,7 @@ pub fn job_from_kwargs(
             ..OutputSpec::default()
         }),
         flow_dt: get(kwargs, "flow_dt")?,
+        categories,
         denoise: get::<bool>(kwargs, "denoise")?.unwrap_or(false),
         ..defaults
     })

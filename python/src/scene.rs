@@ -101,6 +101,8 @@ impl Camera {
 /// allocating.
 ///
 /// Raises glint.GlintError with glint's message when the file cannot be loaded.
+// Python keyword arguments, one parameter each: pyo3 maps them to this signature.
+#[allow(clippy::too_many_arguments)]
 #[pyfunction]
 #[pyo3(signature = (path=None, *, backend=None, scene=None, time=None, asset_root=None, max_texture_pixels=DEFAULT_MAX_TEXTURE_PIXELS, max_geometry_bytes=DEFAULT_MAX_GEOMETRY_BYTES))]
 pub fn load(

@@ -4,6 +4,7 @@ Images are small (at most a few thousand pixels) so that the suite runs in secon
 """
 
 import importlib.util
+import json
 import math
 import os
 import signal
@@ -120,6 +121,24 @@ def test_output_argument_writes_the_same_file_as_the_cli(glint_bin, quads_path, 
     glint.load(quads_path).render(width=7, height=2, spp=8, aovs=["coverage", "instance_id"],
                                   output=py)
     assert cli.read_bytes() == py.read_bytes()
+
+
+
+def test_annotations_equal_the_cli_sidecar(glint_bin, quads_path, tmp_path):
+    """annotations=True gives the instances the command line writes into its sidecar, and
+    categories= names them as --category does."""
+    out = tmp_path / "cli.png"
+    subprocess.run([str(glint_bin), "render", str(quads_path), "-o", str(out), "--width", "28",
+                    "--height", "8", "--spp", "8", "--annotations", "--category", "A=left",
+                    "--quiet"], check=True)
+    cli = json.loads(out.with_suffix(".json").read_text())["instances"]
+    result = glint.load(quads_path).render(width=28, height=8, spp=8, annotations=True,
+                                           categories={"A": "left"})
+    assert result["instances"] == cli
+    assert result["camera"]["instances"] == cli
+    assert "left" in {inst["category"] for inst in cli}
+    assert all(inst["amodal"]["area"] >= inst["visible"]["area"] for inst in cli)
+    assert "instances" not in glint.load(quads_path).render(width=28, height=8, spp=8)
 
 
 # ---------------------------------------------------------------- shapes and dtypes
