@@ -653,7 +653,7 @@ fn a_frame_sweep_renders_an_animation_at_each_frames_time() {
     }
     let dir = tempfile::tempdir().unwrap();
     let text = format!(
-        "[[sweep]]\nscene = \"{}\"\nwidth = 24\nheight = 18\nspp = 1\nbackend = \"bvh\"\n\
+        "[[sweep]]\nscene = \"{}\"\nwidth = 64\nheight = 48\nspp = 1\nbackend = \"bvh\"\n\
          output = \"anim_{{frame:04}}.png\"\nframes = \"0..3\"\nfps = 1\n",
         scene.display()
     );
@@ -671,7 +671,9 @@ fn a_frame_sweep_renders_an_animation_at_each_frames_time() {
                 .into_raw()
         })
         .collect();
-    // BoxAnimated moves over its 3.7 s animation: frames 1 s apart differ.
+    // BoxAnimated moves over its 3.7 s animation: frames 1 s apart differ (under one camera:
+    // the default camera frames the rest pose for every frame; at 24×18 the moving part is
+    // too small to change a pixel between 1 s and 2 s).
     assert_ne!(frames[0], frames[1]);
     assert_ne!(frames[1], frames[2]);
     let r = report(&dir.path().join("r.json"));
@@ -853,4 +855,56 @@ fn a_duplicate_output_is_found_before_a_million_frames_are_expanded() {
         &file(999_999),
         &["[[sweep]] 0, frame=999998", "0999998.png", "[[job]] 0"],
     );
+}
+
+/// A file without a camera keeps one default camera through a sequence: it frames the rest
+/// pose, not each time's bounds (which would move the camera from frame to frame and make the
+/// flow to the next frame disagree with it).
+#[test]
+fn the_default_camera_is_the_same_at_every_time() {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/khronos");
+    let scene = shared.join("InterpolationTest/glTF-Binary/InterpolationTest.glb");
+    if !scene.is_file() {
+        eprintln!("skipped: {} is missing", scene.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut poses = Vec::new();
+    for (k, time) in ["0.4", "1.7"].iter().enumerate() {
+        let out = format!("t{k}.png");
+        let run = glint(
+            &[
+                "render",
+                scene.to_str().unwrap(),
+                "-o",
+                &out,
+                "--time",
+                time,
+                "--width",
+                "16",
+                "--height",
+                "9",
+                "--spp",
+                "1",
+                "--backend",
+                "bvh",
+                "--sidecar",
+                "-q",
+            ],
+            dir.path(),
+        );
+        assert!(run.status.success(), "{}", stderr(&run));
+        let said = stderr(&run);
+        assert!(
+            !said.contains("not applied"),
+            "rest-pose load warned: {said}"
+        );
+        let sidecar: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join(format!("t{k}.json"))).unwrap(),
+        )
+        .unwrap();
+        poses.push(sidecar["camera"]["world_to_camera_opencv"].clone());
+    }
+    assert!(poses[0].is_array());
+    assert_eq!(poses[0], poses[1]);
 }

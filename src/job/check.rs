@@ -147,6 +147,18 @@ impl Job {
     /// The camera the job renders through in `scene`, with the announcement of a default one.
     pub fn camera(&self, scene: &Scene) -> Result<Completed<Camera>, JobError> {
         Ok(match &self.camera {
+            CameraChoice::First if scene.cameras.is_empty() && self.selection.time.is_some() => {
+                // A sequence renders one file at many times; a camera framed from each time's
+                // bounds would move from frame to frame (and the flow to the next frame would
+                // not match it). The default camera frames the file as it is stored, with no
+                // animation sampled: the same camera at every time.
+                let at_rest = crate::scene::gltf::SceneSelection {
+                    time: None,
+                    ..self.selection
+                };
+                let rest = self.scene.load_quietly(&at_rest, &self.load_options)?;
+                defaults::camera_for(&rest, None)?
+            }
             CameraChoice::First => defaults::camera_for(scene, None)?,
             CameraChoice::Index(i) => defaults::camera_for(scene, Some(*i))?,
             CameraChoice::Given(camera) => Completed {

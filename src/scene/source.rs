@@ -48,4 +48,19 @@ impl SceneSource {
             }
         }
     }
+
+    /// Like [`load_with`](Self::load_with), without printing the loader's warnings: for a
+    /// second load of a scene already loaded (and warned about) once, e.g. its rest pose.
+    pub fn load_quietly(
+        &self,
+        selection: &SceneSelection,
+        options: &LoadOptions,
+    ) -> Result<Scene, LoadError> {
+        match self {
+            SceneSource::Demo => super::demo::demo_scene(),
+            SceneSource::File(path) => {
+                super::gltf::load_full(path, selection, options).map(|loaded| loaded.scene)
+            }
+        }
+    }
 }
