@@ -24,7 +24,7 @@
 //! pass, and the coin of pixel `p` at decision `d` is a hash of the seed, `p` and `d`, so the
 //! image is the same for any thread count.
 
-use super::film::{Film, Image, RELATIVE_ERROR_FLOOR, luminance};
+use super::film::{Film, Image, error_floor, luminance};
 use super::sampler::mix64;
 use glam::Vec3;
 
@@ -142,14 +142,7 @@ impl Adaptive {
         let image = film.radiance();
         let variance = film.variance();
         let (w, h) = (self.width as usize, self.height as usize);
-        let n = image.pixels.len().max(1) as f64;
-        let mean = image
-            .pixels
-            .iter()
-            .map(|&p| luminance(p) as f64)
-            .sum::<f64>()
-            / n;
-        let floor = (RELATIVE_ERROR_FLOOR as f64 * mean).max(f64::MIN_POSITIVE);
+        let floor = error_floor(&image);
         let relative: Vec<f32> = image
             .pixels
             .iter()

@@ -248,6 +248,19 @@ pub struct Film {
 /// keeps black pixels (whose relative error is undefined) from dominating the estimate.
 pub const RELATIVE_ERROR_FLOOR: f32 = 0.1;
 
+/// The `ε` of the relative error: [`RELATIVE_ERROR_FLOOR`] × `image`'s mean luminance (never
+/// zero), so dark pixels are not judged by a relative error of a near-zero value.
+pub(super) fn error_floor(image: &Image<Vec3>) -> f64 {
+    let n = image.pixels.len().max(1) as f64;
+    let mean = image
+        .pixels
+        .iter()
+        .map(|&p| luminance(p) as f64)
+        .sum::<f64>()
+        / n;
+    (RELATIVE_ERROR_FLOOR as f64 * mean).max(f64::MIN_POSITIVE)
+}
+
 impl Film {
     /// An empty film.
     pub fn new(width: u32, height: u32, aovs: AovSelection) -> Self {
@@ -444,13 +457,7 @@ impl Film {
         let image = self.radiance();
         let variance = self.variance();
         let n = image.pixels.len().max(1) as f64;
-        let mean = image
-            .pixels
-            .iter()
-            .map(|&p| luminance(p) as f64)
-            .sum::<f64>()
-            / n;
-        let floor = (RELATIVE_ERROR_FLOOR as f64 * mean).max(f64::MIN_POSITIVE);
+        let floor = error_floor(&image);
         let sum: f64 = image
             .pixels
             .iter()

@@ -71,15 +71,7 @@ pub(super) fn trace_centre_hits(
     sums: &mut TileSums,
     counts: &mut RayCounts,
 ) {
-    let rays: Vec<Ray> = (0..tile.pixel_count())
-        .map(|local| {
-            let (x, y) = tile.pixel(local);
-            ctx.camera.ray(x as f32 + 0.5, y as f32 + 0.5)
-        })
-        .collect();
-    let mut hits = vec![None; rays.len()];
-    ctx.accel
-        .intersect_many(&rays, &mut hits, Coherence::Coherent);
+    let (rays, mut hits) = ctx.trace_pixel_centres(tile);
     if let Some(visibility) = &ctx.visibility {
         // A batch identity no sample uses, so BLEND surfaces decide the same way for any
         // sample count.

@@ -28,7 +28,7 @@ use super::film::{AovSelection, Image, TileSums};
 use super::stats::RayCounts;
 use super::tiles::Tile;
 use super::wavefront::TileContext;
-use crate::accel::{Coherence, Hit, Ray};
+use crate::accel::Hit;
 use crate::scene::Scene;
 
 /// The ID of "nothing": a pixel whose centre ray leaves the scene, an unused coverage layer.
@@ -121,15 +121,7 @@ pub(super) fn trace_centre_ids(
     if !(aovs.instance_id || aovs.material_id) {
         return;
     }
-    let rays: Vec<Ray> = (0..tile.pixel_count())
-        .map(|local| {
-            let (x, y) = tile.pixel(local);
-            ctx.camera.ray(x as f32 + 0.5, y as f32 + 0.5)
-        })
-        .collect();
-    let mut hits = vec![None; rays.len()];
-    ctx.accel
-        .intersect_many(&rays, &mut hits, Coherence::Coherent);
+    let (rays, hits) = ctx.trace_pixel_centres(tile);
     counts.camera += rays.len() as u64;
     let ids = |f: fn(&Scene, &Hit) -> u32| -> Vec<u32> {
         hits.iter()

@@ -95,6 +95,24 @@ impl TileContext<'_> {
             filter: self.texture_filter,
         }
     }
+
+    /// The rays through the exact centres of `tile`'s pixels and their first hits, before any
+    /// visibility rule: the point samples of the ID and ground-truth AOVs.
+    pub(super) fn trace_pixel_centres(
+        &self,
+        tile: &super::tiles::Tile,
+    ) -> (Vec<Ray>, Vec<Option<Hit>>) {
+        let rays: Vec<Ray> = (0..tile.pixel_count())
+            .map(|local| {
+                let (x, y) = tile.pixel(local);
+                self.camera.ray(x as f32 + 0.5, y as f32 + 0.5)
+            })
+            .collect();
+        let mut hits = vec![None; rays.len()];
+        self.accel
+            .intersect_many(&rays, &mut hits, Coherence::Coherent);
+        (rays, hits)
+    }
 }
 
 /// The samples one pass adds: indices `first_sample .. first_sample + spp` of every pixel's

@@ -57,10 +57,11 @@ impl SceneSource {
         options: &LoadOptions,
     ) -> Result<Scene, LoadError> {
         match self {
-            SceneSource::Demo => super::demo::demo_scene(),
             SceneSource::File(path) => {
                 super::gltf::load_full(path, selection, options).map(|loaded| loaded.scene)
             }
+            // The demo scene has no warnings to print.
+            SceneSource::Demo => self.load_with(selection, options),
         }
     }
 }
