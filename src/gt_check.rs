@@ -11,7 +11,10 @@
 //!   whose four neighbours are not all valid, or not all on the pixel's own instance (when
 //!   both files have `instance_id`), or whose neighbours' backward flows differ by more than
 //!   [`SMOOTH_FLOW_SPREAD`] pixels (an edge between surfaces moving differently, where
-//!   interpolation means nothing), are left out and counted.
+//!   interpolation means nothing), or whose backward flow is not smooth enough for bilinear
+//!   interpolation to be exact within [`MAX_INTERPOLATION_ERROR`] pixels (estimated from
+//!   second differences across the cell: a crease or a self-occlusion edge inside it), are
+//!   left out and counted.
 
 use crate::output::sidecar::{Sidecar, SidecarError, read_sidecar, sidecar_path};
 use glam::{DVec2, DVec3};
@@ -21,6 +24,10 @@ use std::path::{Path, PathBuf};
 /// The largest spread (pixels) of the four backward flows around a landing point for it to
 /// count as smooth in the flow check.
 pub const SMOOTH_FLOW_SPREAD: f64 = 0.5;
+
+/// The largest bilinear interpolation error (pixels, estimated from second differences of the
+/// next frame's backward flow) for a landing point to be compared in the flow check.
+pub const MAX_INTERPOLATION_ERROR: f64 = 0.01;
 
 /// Why an output cannot be checked.
 #[derive(Debug, thiserror::Error)]
@@ -250,6 +257,33 @@ pub fn flow_round_trip(
         if (hi - lo).max_element() > SMOOTH_FLOW_SPREAD {
             result.skipped += 1;
             continue;
+        }
+        // Bilinear interpolation of a smooth field errs by at most |f''|/8 over a one-pixel
+        // cell: estimate f'' by second differences across the cell (one pixel beyond it on
+        // each side) and leave out cells where the field is not that smooth (a crease or a
+        // self-occlusion edge inside the cell, where the interpolated flow is not the flow of
+        // the landing point).
+        let outside = [
+            (back(x0 - 1, y0, id), a, b),
+            (back(x0 + 2, y0, id), b, a),
+            (back(x0 - 1, y0 + 1, id), c, d),
+            (back(x0 + 2, y0 + 1, id), d, c),
+            (back(x0, y0 - 1, id), a, c),
+            (back(x0, y0 + 2, id), c, a),
+            (back(x0 + 1, y0 - 1, id), b, d),
+            (back(x0 + 1, y0 + 2, id), d, b),
+        ];
+        let curvature = outside
+            .iter()
+            .try_fold(0.0f64, |most, &(beyond, near, far)| {
+                beyond.map(|beyond| most.max((beyond - 2.0 * near + far).length()))
+            });
+        match curvature {
+            Some(c) if c / 8.0 <= MAX_INTERPOLATION_ERROR => {}
+            _ => {
+                result.skipped += 1;
+                continue;
+            }
         }
         let backward = (a * (1.0 - tx) + b * tx) * (1.0 - ty) + (c * (1.0 - tx) + d * tx) * ty;
         result.add((forward + backward).length(), (x, y));
