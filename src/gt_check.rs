@@ -158,6 +158,11 @@ pub struct Disagreement {
 }
 
 impl Disagreement {
+    /// Whether the largest disagreement is over `tolerance` (or not a number).
+    pub fn exceeds(&self, tolerance: f64) -> bool {
+        self.largest.is_nan() || self.largest > tolerance
+    }
+
     fn add(&mut self, error: f64, at: (u32, u32)) {
         self.compared += 1;
         if error > self.largest || error.is_nan() {

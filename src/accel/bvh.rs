@@ -41,6 +41,25 @@ struct TopItem {
     placement: Placement,
 }
 
+impl TopItem {
+    /// The world-space hit of entry `index` of `blas` (this item's structure) at `t`, (`u`, `v`).
+    fn hit(&self, blas: &Blas, index: usize, t: f32, u: f32, v: f32) -> Hit {
+        let [geom_id, prim_id] = blas.ids[index];
+        Hit {
+            t,
+            geom_id,
+            prim_id,
+            instance: self.instance,
+            u,
+            v,
+            ng: self
+                .placement
+                .normal(blas.normal(index))
+                .normalize_or_zero(),
+        }
+    }
+}
+
 /// A bottom-level structure: a CWBVH and its triangles in leaf order.
 #[derive(Default)]
 struct Blas {
@@ -328,20 +347,8 @@ impl Accel for BvhAccel {
                 match blas.closest(&to_object(&bounded, &item.placement)) {
                     // Ties go to the earlier hit, as in one structure's traversal order.
                     Some((index, t, u, v)) if best.is_none() || t < bounded.tfar => {
-                        let [geom_id, prim_id] = blas.ids[index];
                         bounded.tfar = t;
-                        best = Some(Hit {
-                            t,
-                            geom_id,
-                            prim_id,
-                            instance: item.instance,
-                            u,
-                            v,
-                            ng: item
-                                .placement
-                                .normal(blas.normal(index))
-                                .normalize_or_zero(),
-                        });
+                        best = Some(item.hit(blas, index, t, u, v));
                         t + TRAVERSAL_SHIFT
                     }
                     _ => f32::INFINITY,
@@ -386,19 +393,7 @@ impl Accel for BvhAccel {
                 let item = &self.top_items[id];
                 let blas = &self.placed[item.blas as usize];
                 blas.each(&to_object(ray, &item.placement), |(index, t, u, v)| {
-                    let [geom_id, prim_id] = blas.ids[index];
-                    out.push(Hit {
-                        t,
-                        geom_id,
-                        prim_id,
-                        instance: item.instance,
-                        u,
-                        v,
-                        ng: item
-                            .placement
-                            .normal(blas.normal(index))
-                            .normalize_or_zero(),
-                    });
+                    out.push(item.hit(blas, index, t, u, v));
                 });
                 f32::INFINITY
             });

@@ -31,7 +31,7 @@ pub fn run(args: CheckGtArgs) -> Result<(), CliError> {
         "reprojection: largest error {:.3e} (relative to the scene's scale) at pixel {:?}; {} pixels compared, {} invalid",
         reprojection.largest, reprojection.at, reprojection.compared, reprojection.skipped
     );
-    if reprojection.largest.is_nan() || reprojection.largest > args.tolerance {
+    if reprojection.exceeds(args.tolerance) {
         failures.push(format!(
             "reprojection error {:.3e} exceeds --tolerance {:.1e}",
             reprojection.largest, args.tolerance
@@ -44,7 +44,7 @@ pub fn run(args: CheckGtArgs) -> Result<(), CliError> {
             "flow: largest forward-backward error {:.3e} px at pixel {:?}; {} pixels compared, {} left out (invalid or at an edge)",
             flow.largest, flow.at, flow.compared, flow.skipped
         );
-        if flow.largest.is_nan() || flow.largest > args.flow_tolerance {
+        if flow.exceeds(args.flow_tolerance) {
             failures.push(format!(
                 "flow error {:.3e} px exceeds --flow-tolerance {}",
                 flow.largest, args.flow_tolerance

@@ -29,7 +29,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         .load_with(&job.selection, &job.load_options)
         .map_err(JobError::from)?;
     // Checked before the (possibly long) build of the ray-query structure.
-    job.camera(&scene)?;
+    job.check_camera(&scene)?;
     let prepared = PreparedScene::new(scene, job.scene.label(), job.backend)?;
     let bar = DelayedProgress::new(args.quiet);
     let report = |done: usize, total: usize| bar.update(done, total);

@@ -144,6 +144,15 @@ impl Job {
         Ok(notes)
     }
 
+    /// Checks the camera choice against `scene` (a camera index that exists) without building
+    /// the camera: a default camera may need the scene's rest pose loaded ([`Self::camera`]).
+    pub fn check_camera(&self, scene: &Scene) -> Result<(), JobError> {
+        if let CameraChoice::Index(i) = &self.camera {
+            defaults::camera_for(scene, Some(*i))?;
+        }
+        Ok(())
+    }
+
     /// The camera the job renders through in `scene`, with the announcement of a default one.
     pub fn camera(&self, scene: &Scene) -> Result<Completed<Camera>, JobError> {
         Ok(match &self.camera {

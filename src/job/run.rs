@@ -308,7 +308,8 @@ fn geometric_aovs(
             time: Some(time + sign * dt),
             ..job.selection
         };
-        let scene = job.scene.load_with(&at, &job.load_options)?;
+        // The same file at another time: its warnings were printed with the render's load.
+        let scene = job.scene.load_quietly(&at, &job.load_options)?;
         let accel = crate::render::prepare(&scene, job.backend, BuildOptions::default())?;
         let camera = if prepared.scene.cameras.is_empty() {
             projection.camera().clone()
