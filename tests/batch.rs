@@ -171,6 +171,63 @@ fn resume_skips_complete_outputs_and_renders_the_rest() {
     assert!(status.iter().all(|(_, s)| s == "rendered"), "{status:?}");
 }
 
+/// The metallic-roughness model is part of what a finished output must match: an EXR names
+/// its model in its header (`glint.brdf`), so a batch whose job asks for another model
+/// renders it again instead of skipping it (a PNG cannot say and is skipped, as documented);
+/// and partial EXRs of different models refuse to merge.
+#[test]
+fn resume_and_merge_check_the_brdf_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = job_file(dir.path());
+    let first = glint(&["batch", "jobs.toml", "-q"], dir.path());
+    assert!(first.status.success(), "{}", stderr(&first));
+    let text = std::fs::read_to_string(&file).unwrap();
+    std::fs::write(&file, text.replace("spp = 1\n", "spp = 1\nbrdf = \"spec\"\n")).unwrap();
+    let second = glint(
+        &["batch", "jobs.toml", "--report", "r.json", "-q"],
+        dir.path(),
+    );
+    assert!(second.status.success(), "{}", stderr(&second));
+    for (index, s) in statuses(&report(&dir.path().join("r.json"))) {
+        // Job 1 is the only EXR.
+        let expected = if index == 1 { "rendered" } else { "skipped" };
+        assert_eq!(s, expected, "job {index}");
+    }
+    let third = glint(
+        &["batch", "jobs.toml", "--report", "t.json", "-q"],
+        dir.path(),
+    );
+    assert!(third.status.success(), "{}", stderr(&third));
+    let status = statuses(&report(&dir.path().join("t.json")));
+    assert!(status.iter().all(|(_, s)| s == "skipped"), "{status:?}");
+
+    let scene = demo().display().to_string();
+    let part = |brdf: &str, shard: &str, out: &str| {
+        let args = [
+            "render", &scene, "--width", "16", "--height", "12", "--spp", "2", "-q",
+            "--shard", shard, "-o", out, "--brdf", brdf,
+        ];
+        let run = glint(&args, dir.path());
+        assert!(run.status.success(), "{}", stderr(&run));
+    };
+    part("spec", "0/2", "s0.exr");
+    part("spec", "1/2", "s1.exr");
+    part("compensated", "1/2", "c1.exr");
+    let mixed = glint(&["merge", "s0.exr", "c1.exr", "-o", "m.exr"], dir.path());
+    assert!(!mixed.status.success());
+    assert!(stderr(&mixed).contains("--brdf"), "{}", stderr(&mixed));
+    let same = glint(&["merge", "s0.exr", "s1.exr", "-o", "m.exr"], dir.path());
+    assert!(same.status.success(), "{}", stderr(&same));
+    let merged = exr::prelude::read_all_flat_layers_from_file(dir.path().join("m.exr")).unwrap();
+    let brdf = merged.layer_data[0]
+        .attributes
+        .other
+        .iter()
+        .find(|(k, _)| **k == *"glint.brdf")
+        .map(|(_, v)| format!("{v:?}"));
+    assert!(brdf.is_some_and(|v| v.contains("spec")), "merged EXR header");
+}
+
 #[test]
 fn a_broken_job_fails_alone_and_the_exit_status_says_so() {
     let dir = tempfile::tempdir().unwrap();

@@ -17,7 +17,9 @@
 //! complete. The runner still decodes the whole file and checks the image size against the
 //! job's `width`/`height` (where the job gives them), so a file glint did not write (copied
 //! in, truncated by hand) or a stale one of another size is rendered again; decoding a small
-//! image costs far less than rendering it.
+//! image costs far less than rendering it. An EXR whose `glint.brdf` header names another
+//! metallic-roughness model than the job's (`brdf = "spec"` against the default) is stale
+//! too; a PNG carries no such header, so changing the model of PNG jobs needs `--force`.
 //!
 //! Concurrent batches: a job renders only under its claim ([`super::claim`]), taken just
 //! before the job starts, so two processes on one job file share its jobs and never render
@@ -372,6 +374,9 @@ fn render_job(
     Ok(done.stats)
 }
 
+/// The EXR header attribute naming the metallic-roughness model (`glint.brdf`).
+const BRDF_ATTRIBUTE: &str = "glint.brdf";
+
 /// Whether the job's output exists and is complete (see the module documentation).
 pub fn output_is_complete(job: &Job) -> bool {
     let path = job.output();
@@ -393,10 +398,19 @@ pub fn output_is_complete(job: &Job) -> bool {
         Ok(crate::output::OutputFormat::Exr) => exr::prelude::read_all_flat_layers_from_file(path)
             .ok()
             .and_then(|image| {
-                image
-                    .layer_data
-                    .first()
-                    .map(|layer| (layer.size.0 as u32, layer.size.1 as u32))
+                let layer = image.layer_data.first()?;
+                // An EXR names the metallic-roughness model that rendered it: one of another
+                // model is stale (a PNG cannot say; `--force` renders it again).
+                let model = layer
+                    .attributes
+                    .other
+                    .get(&exr::meta::attribute::Text::from(BRDF_ATTRIBUTE));
+                if let Some(exr::meta::attribute::AttributeValue::Text(model)) = model
+                    && model.to_string() != job.render.settings.brdf.name()
+                {
+                    return None;
+                }
+                Some((layer.size.0 as u32, layer.size.1 as u32))
             }),
         Err(_) => None,
     };

@@ -23,9 +23,20 @@
 //!
 //! **Sampling.** A visible normal for `wo`, reflected (`pdf = Dv(wo, h)/(4|wo·h|)`); below
 //! [`SMOOTH_ALPHA`](super::microfacet::SMOOTH_ALPHA) a delta mirror of reflectance `c Fc(wo)`.
+//!
+//! **Energy compensation** ([`BrdfModel::Compensated`], the renderer's default). The spec's
+//! coat lobe `D G2 / (4 |n·wo| |n·wi|)` carries no Fresnel (the layer's weight `c Fc(wo)`
+//! does) and reflects only its single-scatter albedo `E0(n·wo, α)` of what the mix gives it,
+//! so a coat over a base of albedo 1 reflects `1 − c Fc(wo) (1 − E0(wo))`. Compensated, the
+//! lobe is scaled by `1/E0(n·wo)` (Turquin's factor for a white lobe): the coat then reflects
+//! `c Fc(wo)` exactly, as the layering means it to, and a coat over a white compensated base
+//! reflects 1. The sampler is the compensated lobes' mixture of folded reflection and cosine
+//! draws ([`TrowbridgeReitz::sample_compensated_reflection`], `u_lobe` choosing).
+//! [`BrdfModel::Spec`]: the formulas above, single scattering.
 
+use super::energy::ggx_albedo;
 use super::microfacet::{TrowbridgeReitz, reflect};
-use super::{Bsdf, BsdfFlags, BsdfSample, Frame};
+use super::{Bsdf, BrdfModel, BsdfFlags, BsdfSample, Frame};
 use glam::{Vec2, Vec3};
 
 /// The clear-coat lobe alone, `c · Fc(wo) · D · V` (see the module documentation).
@@ -37,7 +48,12 @@ pub struct ClearcoatBsdf {
     pub distribution: TrowbridgeReitz,
     /// The coat's own normal frame in the local frame of the BSDF (`None`: the local +Z).
     pub frame: Option<Frame>,
+    /// Single scattering exactly ([`BrdfModel::Spec`]) or energy-compensated.
+    pub model: BrdfModel,
 }
+
+/// A floor on `E0` before dividing by it (the table's smallest value is about 0.3).
+const MIN_ALBEDO: f32 = 1e-2;
 
 /// The coat's Fresnel reflectance at normal incidence (index 1.5 against air).
 pub const COAT_F0: f32 = 0.04;
@@ -53,6 +69,27 @@ impl ClearcoatBsdf {
             },
             distribution: TrowbridgeReitz::from_roughness(roughness),
             frame: None,
+            model: BrdfModel::Spec,
+        }
+    }
+
+    /// The same coat under `model` ([`new`](Self::new) gives [`BrdfModel::Spec`]).
+    pub fn with_model(self, model: BrdfModel) -> Self {
+        Self { model, ..self }
+    }
+
+    /// The factor on the coat lobe for `n·wo = cos_o` in the coat's frame: `1/E0(cos_o, α)`
+    /// compensated, 1 for [`BrdfModel::Spec`].
+    #[inline]
+    fn energy_scale(&self, cos_o: f32) -> f32 {
+        match self.model {
+            BrdfModel::Spec => 1.0,
+            BrdfModel::Compensated => {
+                let a = &self.distribution;
+                1.0 / ggx_albedo(cos_o, (a.alpha_x * a.alpha_y).sqrt())
+                    .e0
+                    .max(MIN_ALBEDO)
+            }
         }
     }
 
@@ -143,13 +180,19 @@ impl ClearcoatBsdf {
             return Vec3::ZERO;
         }
         let tr = &self.distribution;
-        Vec3::splat(self.weight(wo.z) * tr.d(h) * tr.g2(wo, wi) / (4.0 * wo.z * wi.z))
+        Vec3::splat(
+            self.weight(wo.z) * self.energy_scale(wo.z) * tr.d(h) * tr.g2(wo, wi)
+                / (4.0 * wo.z * wi.z),
+        )
     }
 
     /// [`Bsdf::pdf`] with `wo`, `wi` in the coat's frame.
     fn pdf_local(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.distribution.is_smooth() {
             return 0.0;
+        }
+        if self.model == BrdfModel::Compensated {
+            return self.distribution.compensated_reflection_pdf(wo, wi);
         }
         let h = (wo + wi).normalize_or_zero();
         if h == Vec3::ZERO {
@@ -159,7 +202,7 @@ impl ClearcoatBsdf {
     }
 
     /// [`Bsdf::sample`] in the coat's frame (weight with the coat frame's cosine).
-    fn sample_local(&self, wo: Vec3, _u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+    fn sample_local(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -172,7 +215,13 @@ impl ClearcoatBsdf {
                 transmission: false,
             });
         }
-        let wi = reflect(wo, self.distribution.sample_visible(wo, u));
+        let wi = match self.model {
+            BrdfModel::Spec => reflect(wo, self.distribution.sample_visible(wo, u)),
+            BrdfModel::Compensated => {
+                self.distribution
+                    .sample_compensated_reflection(wo, u_lobe, u)
+            }
+        };
         if wi.z <= 0.0 {
             return None;
         }

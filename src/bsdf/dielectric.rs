@@ -34,9 +34,31 @@
 //! Reflection: `pdf = P_r Dv(wo, m) / (4 |wo·m|)`; transmission: `pdf = (1 − P_r) Dv(wo, m)
 //! |wi·m| η_i² / (η_o wo·m + η_i wi·m)²` (thin: the mirrored reflection's density). `pdf`
 //! recomputes `m` from `(wo, wi)` and gives the same value, so MIS sees one density.
+//!
+//! **Energy compensation** ([`BrdfModel::Compensated`], the renderer's default;
+//! [`BrdfModel::Spec`] is the single-scatter BSDF above exactly). Single scattering loses the
+//! light that meets a second microfacet: a white rough interface reflects plus transmits
+//! `E(μo) < 1` of the power arriving from `wo` (the tabulated albedo of
+//! [`dielectric_energy`](super::dielectric_energy); thin walls: the GGX reflection albedo
+//! `E0(μo)`). The compensated BSDF is the single-scatter one scaled as a whole,
+//!
+//! ```text
+//! f_c(wo, wi) = f(wo, wi) / E(|n·wo|, α, η_i/η_o)
+//! ```
+//!
+//! (Turquin 2019's scaling with the Fresnel weight of a dielectric, 1: every multiply
+//! scattered ray leaves reflected or transmitted), so a white interface conserves power at
+//! every angle and roughness and the restored light keeps the single-scatter lobes' shapes
+//! and their split between reflection and transmission. Separate tables for each side,
+//! because total internal reflection makes the inside differ. Like the metals' scaling it
+//! depends on `wo` only and is not reciprocal. `sample` and `pdf` are the single-scatter
+//! ones, and a sample's weight is `f_c · |cos θi| / pdf`, so the estimator is unbiased for
+//! the compensated BSDF. Smooth interfaces are unchanged (`E = 1`).
 
+use super::dielectric_energy::dielectric_albedo;
+use super::energy::ggx_albedo;
 use super::microfacet::{TrowbridgeReitz, reflect};
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Bsdf, BrdfModel, BsdfFlags, BsdfSample};
 use glam::{Vec2, Vec3};
 
 /// The dielectric interface (see the module documentation).
@@ -50,6 +72,8 @@ pub struct DielectricBsdf {
     pub tint: Vec3,
     /// Thin-walled: transmission does not bend the ray.
     pub thin: bool,
+    /// Single scattering exactly ([`BrdfModel::Spec`]) or energy-compensated.
+    pub model: BrdfModel,
 }
 
 /// Exact Fresnel reflectance of unpolarised light at a dielectric interface, for `cos_i` the
@@ -92,6 +116,10 @@ pub fn refract(w: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     Some((-w / eta + n * (cos_i / eta - cos_t)).normalize_or_zero()).filter(|v| *v != Vec3::ZERO)
 }
 
+/// A floor on the tabulated albedo before dividing by it (the smallest tabulated value, rough
+/// glass seen at grazing angles, is far above it; this guards a corrupted lookup only).
+const MIN_ALBEDO: f32 = 1e-2;
+
 #[inline]
 fn mean(v: Vec3) -> f32 {
     (v.x + v.y + v.z) * (1.0 / 3.0)
@@ -110,7 +138,39 @@ impl DielectricBsdf {
             distribution: TrowbridgeReitz::from_roughness(roughness),
             tint: tint.clamp(Vec3::ZERO, Vec3::ONE),
             thin,
+            model: BrdfModel::Spec,
         }
+    }
+
+    /// The same interface under `model` ([`new`](Self::new) gives [`BrdfModel::Spec`], single
+    /// scattering; the renderer's default is [`BrdfModel::Compensated`]).
+    pub fn with_model(mut self, model: BrdfModel) -> Self {
+        self.model = model;
+        self
+    }
+
+    /// The factor on the whole rough BSDF for `wo`: `1/E(|n·wo|)` compensated (see the
+    /// module documentation), 1 for [`BrdfModel::Spec`] and smooth interfaces.
+    #[inline]
+    pub fn energy_scale(&self, wo: Vec3) -> f32 {
+        match self.model {
+            BrdfModel::Spec => 1.0,
+            BrdfModel::Compensated => {
+                let alpha = self.alpha();
+                let e = if self.thin {
+                    ggx_albedo(wo.z, alpha).e0
+                } else {
+                    dielectric_albedo(wo.z.abs(), alpha, self.eta_across(wo))
+                };
+                1.0 / e.max(MIN_ALBEDO)
+            }
+        }
+    }
+
+    /// The isotropic α the energy tables are read at.
+    #[inline]
+    fn alpha(&self) -> f32 {
+        (self.distribution.alpha_x * self.distribution.alpha_y).sqrt()
     }
 
     /// The index ratio a refraction from `wo`'s side into the other side sees (`η_i/η_o`).
@@ -182,26 +242,7 @@ impl Bsdf for DielectricBsdf {
         let Some(m) = self.half_vector(wo, wi) else {
             return Vec3::ZERO;
         };
-        let tr = &self.distribution;
-        let f = fresnel_dielectric(wo.dot(m) * wo.z.signum(), self.eta_side(wo));
-        let (co, ci) = (wo.z.abs(), wi.z.abs());
-        if wo.z * wi.z > 0.0 {
-            return Vec3::splat(f * tr.d(m) * tr.g2(wo, wi) / (4.0 * co * ci));
-        }
-        if self.thin {
-            let wi_m = Vec3::new(wi.x, wi.y, -wi.z);
-            return self.tint * ((1.0 - f) * tr.d(m) * tr.g2(wo, wi_m) / (4.0 * co * ci));
-        }
-        // Walter's f_t with the η² of the Jacobian and the radiance scaling 1/η².
-        let eta = self.eta_across(wo);
-        let denom = wo.dot(m) + eta * wi.dot(m);
-        let ft = (1.0 - f) * tr.d(m) * tr.g2(wo, wi) * (wo.dot(m) * wi.dot(m)).abs()
-            / (co * ci * denom * denom);
-        if ft.is_finite() {
-            self.tint * ft
-        } else {
-            Vec3::ZERO
-        }
+        self.eval_single(wo, wi, m) * self.energy_scale(wo)
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
@@ -299,6 +340,32 @@ impl Bsdf for DielectricBsdf {
 }
 
 impl DielectricBsdf {
+    /// The single-scatter `f(wo, wi)` for the half vector `m` of the pair (see the module
+    /// documentation).
+    #[inline]
+    fn eval_single(&self, wo: Vec3, wi: Vec3, m: Vec3) -> Vec3 {
+        let tr = &self.distribution;
+        let f = fresnel_dielectric(wo.dot(m) * wo.z.signum(), self.eta_side(wo));
+        let (co, ci) = (wo.z.abs(), wi.z.abs());
+        if wo.z * wi.z > 0.0 {
+            return Vec3::splat(f * tr.d(m) * tr.g2(wo, wi) / (4.0 * co * ci));
+        }
+        if self.thin {
+            let wi_m = Vec3::new(wi.x, wi.y, -wi.z);
+            return self.tint * ((1.0 - f) * tr.d(m) * tr.g2(wo, wi_m) / (4.0 * co * ci));
+        }
+        // Walter's f_t with the η² of the Jacobian and the radiance scaling 1/η².
+        let eta = self.eta_across(wo);
+        let denom = wo.dot(m) + eta * wi.dot(m);
+        let ft = (1.0 - f) * tr.d(m) * tr.g2(wo, wi) * (wo.dot(m) * wi.dot(m)).abs()
+            / (co * ci * denom * denom);
+        if ft.is_finite() {
+            self.tint * ft
+        } else {
+            Vec3::ZERO
+        }
+    }
+
     /// The relative index for Fresnel with a cosine measured on `wo`'s side (positive):
     /// `η_i/η_o`.
     #[inline]

@@ -30,6 +30,11 @@
 //! reflects `wo` about it; the diffuse lobe draws a cosine-weighted direction. `pdf` is the
 //! mixture `P(specular)·Dv(wo, h)/(4|wo·h|) + P(diffuse)·cos θi/π` and the sample weight is
 //! `f · cos θi / pdf` with that mixture, so `sample` and `pdf` agree whatever lobe drew `wi`.
+//! Under [`BrdfModel::Compensated`] the specular lobe folds the reflections that fall below
+//! the horizon back above it and mixes in cosine-weighted draws, a share `α²/2`
+//! ([`TrowbridgeReitz::sample_compensated_reflection`]), with the mixture's exact density:
+//! same expectation, no lost draws, so the compensated rough metal's path weights stay near 1
+//! (see `docs/bsdf.md`).
 //!
 //! **Smooth surfaces.** Below [`SMOOTH_ALPHA`](super::microfacet::SMOOTH_ALPHA) the specular
 //! lobe is a delta: the α → 0 limit of `∫ F · specular_brdf · cos dwi` is `F(n·wo)` in the
@@ -291,6 +296,19 @@ impl MetallicRoughnessBsdf {
             + self.metallic * self.metal_fresnel(cos_o)
     }
 
+    /// The density of the specular lobe's sampler at `wi` (both directions above the
+    /// surface): plain visible-normal reflection for [`BrdfModel::Spec`] (draws below the
+    /// horizon are lost, as before), the folded sampler mixed with cosine draws for
+    /// [`BrdfModel::Compensated`] (see [`TrowbridgeReitz::sample_compensated_reflection`]).
+    #[inline]
+    fn specular_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self.model {
+            BrdfModel::Spec => Self::half(wo, wi)
+                .map_or(0.0, |h| self.distribution.reflection_pdf(wo, h)),
+            BrdfModel::Compensated => self.distribution.compensated_reflection_pdf(wo, wi),
+        }
+    }
+
     /// The half vector of two upper directions, or `None` when they are opposite.
     #[inline]
     fn half(wo: Vec3, wi: Vec3) -> Option<Vec3> {
@@ -323,10 +341,7 @@ impl Bsdf for MetallicRoughnessBsdf {
         if self.distribution.is_smooth() {
             return diffuse;
         }
-        let Some(h) = Self::half(wo, wi) else {
-            return diffuse;
-        };
-        diffuse + ps * self.distribution.reflection_pdf(wo, h)
+        diffuse + ps * self.specular_pdf(wo, wi)
     }
 
     fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
@@ -346,7 +361,14 @@ impl Bsdf for MetallicRoughnessBsdf {
             });
         }
         let wi = if choose_specular {
-            reflect(wo, self.distribution.sample_visible(wo, u))
+            match self.model {
+                BrdfModel::Spec => reflect(wo, self.distribution.sample_visible(wo, u)),
+                BrdfModel::Compensated => {
+                    let u_choice = (u_lobe / ps).clamp(0.0, 1.0);
+                    self.distribution
+                        .sample_compensated_reflection(wo, u_choice, u)
+                }
+            }
         } else {
             cosine_hemisphere(u)
         };

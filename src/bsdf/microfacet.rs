@@ -24,6 +24,7 @@
 //! overflows single precision long before α reaches 0, and such surfaces are mirrors in all
 //! but name.
 
+use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
 
@@ -147,6 +148,79 @@ impl TrowbridgeReitz {
             return 0.0;
         }
         self.visible_d(wo, m) / (4.0 * om)
+    }
+}
+
+impl TrowbridgeReitz {
+    /// Draws a reflected direction for `wo` (upper hemisphere) by the **folded** visible-normal
+    /// sampler: `wi = reflect(wo, m)` with `m ~ Dv(wo, ·)`, and a `wi` below the surface
+    /// mirrored through the tangent plane, `(x, y, z) → (x, y, −z)`, instead of being lost.
+    /// Its density ([`folded_reflection_pdf`](Self::folded_reflection_pdf)) is the sum of the
+    /// plain reflection density at `wi` and at its mirror image, exact and in closed form, so
+    /// the draw is as unbiased as the plain one; but no draw is wasted, which halves the
+    /// second moment of a compensated rough lobe's weights at normal incidence (at α = 1 the
+    /// plain sampler sends half its draws below the horizon). The returned `wi` has `z ≥ 0`
+    /// (`z = 0` only for grazing draws, which callers reject).
+    #[inline]
+    pub fn sample_folded_reflection(&self, wo: Vec3, u: Vec2) -> Vec3 {
+        let wi = reflect(wo, self.sample_visible(wo, u));
+        Vec3::new(wi.x, wi.y, wi.z.abs())
+    }
+
+    /// The solid-angle density of [`sample_folded_reflection`](Self::sample_folded_reflection)
+    /// at `wi` (upper hemisphere): `p(wi) + p(wi')`, with `p(w) = Dv(wo, h)/(4 |wo·h|)`,
+    /// `h = normalize(wo + w)`, the plain reflection density, and `wi' = (x, y, −z)`.
+    #[inline]
+    pub fn folded_reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        let plain = |w: Vec3| {
+            let h = (wo + w).normalize_or_zero();
+            if h == Vec3::ZERO {
+                0.0
+            } else {
+                self.reflection_pdf(wo, h)
+            }
+        };
+        plain(wi) + plain(Vec3::new(wi.x, wi.y, -wi.z))
+    }
+
+    /// The share of cosine-hemisphere draws in
+    /// [`sample_compensated_reflection`](Self::sample_compensated_reflection): `α²/2`
+    /// (`α² = αx αy`), a half at α = 1 and negligible for glossy lobes.
+    #[inline]
+    pub fn cosine_share(&self) -> f32 {
+        0.5 * self.alpha_x * self.alpha_y
+    }
+
+    /// The sampler of an energy-compensated rough lobe: with probability
+    /// [`cosine_share`](Self::cosine_share) (chosen by `u_choice`) a cosine-weighted direction,
+    /// otherwise the folded reflection
+    /// ([`sample_folded_reflection`](Self::sample_folded_reflection)). A compensated lobe's
+    /// `f cos θi` is broad at high roughness, where the visible-normal draw alone leaves weights
+    /// `G2/G1 · k` between 0 and `1/E0`; the mixture's density
+    /// ([`compensated_reflection_pdf`](Self::compensated_reflection_pdf)) follows `f cos θi`
+    /// closely enough that at α = 1 the weights' second moment is 1.05–1.08 (the plain sampler:
+    /// 1.2–2.4) and no weight exceeds 1.35 (measured by quadrature over cos θo = 0.1–1).
+    #[inline]
+    pub fn sample_compensated_reflection(&self, wo: Vec3, u_choice: f32, u: Vec2) -> Vec3 {
+        if u_choice < self.cosine_share() {
+            cosine_hemisphere(u)
+        } else {
+            self.sample_folded_reflection(wo, u)
+        }
+    }
+
+    /// The density of [`sample_compensated_reflection`](Self::sample_compensated_reflection):
+    /// `(1 − c) (p(wi) + p(wi')) + c cos θi/π` with `c` the cosine share.
+    #[inline]
+    pub fn compensated_reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        let c = self.cosine_share();
+        (1.0 - c) * self.folded_reflection_pdf(wo, wi) + c * cosine_hemisphere_pdf(wi.z)
     }
 }
 

@@ -12,6 +12,7 @@
 
 pub mod clearcoat;
 pub mod dielectric;
+pub mod dielectric_energy;
 pub mod energy;
 pub mod flags;
 pub mod lambert;

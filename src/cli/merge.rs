@@ -3,7 +3,7 @@
 use super::CliError;
 use crate::output::fingerprint::SceneTag;
 use crate::output::partial::read_partial_exr_tagged;
-use crate::output::{OutputFormat, PngOptions, write_exr, write_png};
+use crate::output::{OutputFormat, PngOptions, write_exr, write_exr_annotated, write_png};
 use crate::render::partial;
 use crate::render::partial::PartialImage;
 use std::path::{Path, PathBuf};
@@ -36,13 +36,20 @@ pub fn run(args: MergeArgs) -> Result<(), CliError> {
             eprintln!("{line}");
         }
     })?;
+    // The model every tagged part names (they agree: check_same_scene refused otherwise).
+    let brdf = tagged
+        .iter()
+        .find_map(|(_, tag)| tag.as_ref().and_then(|t| t.brdf.clone()));
     let parts: Vec<_> = tagged.into_iter().map(|(part, _)| part).collect();
     let (image, aovs) = partial::merge(&parts).map_err(|e| {
         let names: Vec<String> = args.parts.iter().map(|p| p.display().to_string()).collect();
         CliError::Usage(format!("merging {}: {e}", names.join(", ")))
     })?;
     match format {
-        OutputFormat::Exr => write_exr(&args.output, &image, &aovs),
+        OutputFormat::Exr => match &brdf {
+            Some(brdf) => write_exr_annotated(&args.output, &image, &aovs, &[("glint.brdf", brdf)]),
+            None => write_exr(&args.output, &image, &aovs),
+        },
         OutputFormat::Png => write_png(&args.output, &image, PngOptions::default()),
     }
     .map_err(CliError::from_display)?;
@@ -96,7 +103,18 @@ fn check_same_scene(
                     first_tag.fingerprint
                 )));
             }
-            Some(_) => {}
+            Some((first_path, first_tag)) => {
+                if let (Some(a), Some(b)) = (&first_tag.brdf, &tag.brdf)
+                    && a != b
+                {
+                    return Err(CliError::Usage(format!(
+                        "{} was rendered with --brdf {b} but {} with --brdf {a}: merge only \
+                         parts of one render command that differ in --sample-range or --shard",
+                        path.display(),
+                        first_path.display(),
+                    )));
+                }
+            }
         }
     }
     note_kernels(paths, parts, say);

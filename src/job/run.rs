@@ -161,6 +161,7 @@ fn run_in_scene(
                 source,
             })?;
             tag.kernels = Some(prepared.accel.kernels());
+            tag.brdf = Some(settings.brdf.name().to_string());
             crate::output::partial::write_partial_exr_tagged(&out.path, &part, Some(&tag))?;
         }
         let note = format!(", samples {}..{} (partial)", samples.start, samples.end);

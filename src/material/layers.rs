@@ -115,7 +115,8 @@ impl ShadingLayers {
             };
             (
                 t.factor,
-                DielectricBsdf::new(eta, roughness, base_color, !self.volume),
+                DielectricBsdf::new(eta, roughness, base_color, !self.volume)
+                    .with_model(base.model),
             )
         });
         LayeredBsdf::new(
@@ -123,7 +124,7 @@ impl ShadingLayers {
             transmission,
             self.sheen.map(|s| SheenBsdf::new(s.color, s.roughness)),
             self.clearcoat.map(|c| {
-                let coat = ClearcoatBsdf::new(c.factor, c.roughness);
+                let coat = ClearcoatBsdf::new(c.factor, c.roughness).with_model(base.model);
                 match self.coat_normal {
                     Some(n) => coat.with_normal(n),
                     None => coat,

@@ -32,6 +32,10 @@ pub struct SceneTag {
     /// Embree version and kernels), when known. Not part of the fingerprint: parts rendered
     /// by different kernels still merge, but not bit for bit as one machine would have.
     pub kernels: Option<String>,
+    /// The metallic-roughness model that rendered the part (`compensated` or `spec`,
+    /// [`crate::bsdf::BrdfModel::name`]), when known. Not part of the fingerprint (the scene is
+    /// the same), but `glint merge` refuses parts of different models by it.
+    pub brdf: Option<String>,
 }
 
 /// Changes whenever the hashed inputs change meaning.
@@ -86,6 +90,7 @@ impl SceneTag {
             scene: source.label(),
             fingerprint: format!("{:032x}", hash.digest128()),
             kernels: None,
+            brdf: None,
         })
     }
 }

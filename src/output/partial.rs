@@ -7,6 +7,8 @@
 //! rendered from ([`super::fingerprint`]); `glint merge` checks them before adding parts.
 //! `glint.kernels` names the ray-query code that rendered the part (`embree 3.13.5 sse4.2`,
 //! `embree 3.13.5 native (avx2)`, `bvh`): `glint merge` notes when parts differ in it.
+//! `glint.brdf` names the metallic-roughness model (`compensated` or `spec`): `glint merge`
+//! refuses parts of different models and writes it into a merged EXR.
 
 use crate::output::fingerprint::SceneTag;
 use crate::output::{OutputError, write_atomically};
@@ -25,6 +27,7 @@ const SAMPLES: &str = "glint.samples";
 const SCENE: &str = "glint.scene";
 const FINGERPRINT: &str = "glint.fingerprint";
 const KERNELS: &str = "glint.kernels";
+const BRDF: &str = "glint.brdf";
 
 /// Why a partial EXR cannot be read.
 #[derive(Debug, thiserror::Error)]
@@ -108,6 +111,9 @@ pub fn write_partial_exr_tagged(
         if let Some(kernels) = &tag.kernels {
             text(KERNELS, kernels.clone());
         }
+        if let Some(brdf) = &tag.brdf {
+            text(BRDF, brdf.clone());
+        }
     }
     let size = (
         part.radiance_sum.width as usize,
@@ -174,6 +180,7 @@ pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<Scen
             scene,
             fingerprint,
             kernels: text(KERNELS).ok(),
+            brdf: text(BRDF).ok(),
         }),
         _ => None,
     };
@@ -264,6 +271,7 @@ mod tests {
             scene: "a.glb".into(),
             fingerprint: "0123456789abcdef0123456789abcdef".into(),
             kernels: Some("embree 3.13.5 sse4.2".into()),
+            brdf: Some("spec".into()),
         };
         write_partial_exr_tagged(&path, &part, Some(&tag)).unwrap();
         assert_eq!(read_partial_exr_tagged(&path).unwrap(), (part, Some(tag)));

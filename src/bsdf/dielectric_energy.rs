@@ -1,0 +1,267 @@
+//! Directional albedo of the single-scattering rough dielectric interface (reflection plus
+//! transmission, in power), tabulated at first use, for the energy compensation of
+//! KHR_materials_transmission's rough glass ([`DielectricBsdf`](super::DielectricBsdf) under
+//! [`BrdfModel::Compensated`](super::BrdfModel::Compensated)).
+//!
+//! For a white interface of roughness `α` with relative index `η = η_i/η_o` (the index on
+//! the far side over the index on `wo`'s side: `η > 1` entering glass, `η < 1` leaving it), a
+//! view direction at `μ = |n·wo|` and Walter et al.'s single-scatter BSDF:
+//!
+//! ```text
+//! E(μ, α, η) = ∫ f_r cos θi dωi + η² ∫ f_t cos θi dωi
+//! ```
+//!
+//! the fraction of the power arriving from `wo` that leaves reflected or transmitted after
+//! one microfacet interaction (the `η²` undoes the radiance scaling `1/η²` of `f_t`, so that
+//! the sum is power, which a smooth interface conserves exactly: `E = 1` at `α = 0`). It is
+//! integrated over visible normals `m ~ Dv(wo, m)`: a normal reflects with weight
+//! `F(wo·m) G2(wo, wr)/G1(wo)` when `wr = reflect(wo, m)` is above the surface and transmits
+//! with weight `(1 − F(wo·m)) G2(wo, wt)/G1(wo)` when `wt = refract(wo, m, η)` is below it, so
+//! `E ≈ (1/N) Σ [F G2(wo, wr) + (1 − F) G2(wo, wt)]/G1(wo)` over a 2-D Hammersley set of
+//! visible normals. `F` is the exact dielectric Fresnel, 1 at total internal reflection (which
+//! makes the leaving table differ from the entering one).
+//!
+//! Two tables, entering (`η ≥ 1`) and leaving (`1/η`), each over `(√μ, r = √α, s)` with
+//! `s = (η − 1)/(η + 1)` (`√f0` of the interface at normal incidence): [`MU_NODES`] ×
+//! [`ROUGHNESS_NODES`] × [`ETA_NODES`], `s` from 0 (η = 1) to [`S_MAX`] (η = 3; larger indices
+//! read the last slice), trilinear lookups. Each η slice (about 10⁶ visible normals, a tenth
+//! of a second) is built once per process on its first lookup, so a scene's glass of one
+//! index builds two slices per side; deterministic. Smooth interfaces (`α <`
+//! [`SMOOTH_ALPHA`]) return 1 exactly.
+//!
+//! A thin-walled interface mirrors its transmitted lobe through the tangent plane, so its
+//! transmitted directions see the same `G2` as the reflected ones and its albedo is `E0(μ, α)`
+//! of the GGX reflection table ([`super::energy::ggx_albedo`]) whatever `η`: it needs no table
+//! of its own.
+
+use super::dielectric::{fresnel_dielectric, refract};
+use super::microfacet::{SMOOTH_ALPHA, TrowbridgeReitz, reflect};
+use glam::{Vec2, Vec3};
+use std::sync::OnceLock;
+
+/// Rows: `μ = (i/(MU_NODES − 1))²`.
+pub const MU_NODES: usize = 33;
+/// Columns: perceptual roughness `r = √α = j/(ROUGHNESS_NODES − 1)`.
+pub const ROUGHNESS_NODES: usize = 32;
+/// Slices: `s = (η − 1)/(η + 1) = S_MAX · k/(ETA_NODES − 1)`.
+pub const ETA_NODES: usize = 17;
+/// The largest tabulated `s`: η = 3 (glTF's KHR_materials_ior lists 1–2.42 for common
+/// materials; beyond 3 the last slice is read).
+pub const S_MAX: f32 = 0.5;
+/// Quasi-Monte Carlo points per cell (a power of two).
+const SAMPLES_PER_CELL: u32 = 1024;
+
+/// One slice of a table: `E` at `[j · MU_NODES + i]` for one η node and side.
+type Slice = Vec<f32>;
+
+/// The slice of node `k` entering (`leaving = false`) or leaving, built on first use: a
+/// material of one index touches two slices per side, a tenth of the table.
+fn slice(leaving: bool, k: usize) -> &'static Slice {
+    static SLICES: [OnceLock<Slice>; 2 * ETA_NODES] = [const { OnceLock::new() }; 2 * ETA_NODES];
+    SLICES[usize::from(leaving) * ETA_NODES + k].get_or_init(|| build_slice(leaving, k))
+}
+
+/// Van der Corput's radical inverse in base 2 of `i`.
+#[inline]
+fn radical_inverse_2(i: u32) -> f32 {
+    i.reverse_bits() as f32 * (1.0 / 4_294_967_296.0)
+}
+
+/// `η ≥ 1` of slice `k`.
+#[inline]
+fn eta_of_node(k: usize) -> f32 {
+    let s = S_MAX * k as f32 / (ETA_NODES - 1) as f32;
+    (1.0 + s) / (1.0 - s)
+}
+
+/// `E(μ, α, η)` (see the module documentation) by quasi-Monte Carlo over visible normals,
+/// for `eta` the relative index `η_i/η_o` (below 1: leaving the denser medium). The tables'
+/// cells; also what the tests compare with an independent quadrature.
+pub fn integrate_dielectric_albedo(mu: f32, alpha: f32, eta: f32) -> f32 {
+    if alpha < SMOOTH_ALPHA {
+        return 1.0;
+    }
+    let tr = TrowbridgeReitz::isotropic(alpha);
+    let mu = mu.clamp(1e-4, 1.0);
+    let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
+    let g1 = tr.g1(wo);
+    if g1 <= 0.0 {
+        return 1.0;
+    }
+    let mut sum = 0.0f64;
+    for n in 0..SAMPLES_PER_CELL {
+        let u = Vec2::new(
+            (n as f32 + 0.5) / SAMPLES_PER_CELL as f32,
+            radical_inverse_2(n),
+        );
+        let m = tr.sample_visible(wo, u);
+        let f = fresnel_dielectric(wo.dot(m), eta);
+        let wr = reflect(wo, m);
+        if wr.z > 0.0 {
+            sum += f64::from(f * tr.g2(wo, wr));
+        }
+        if f < 1.0
+            && let Some(wt) = refract(wo, m, eta)
+            && wt.z < 0.0
+        {
+            sum += f64::from((1.0 - f) * tr.g2(wo, wt));
+        }
+    }
+    (sum / f64::from(SAMPLES_PER_CELL) / f64::from(g1)) as f32
+}
+
+/// The cells of one slice, `(j, i)` row-major.
+fn build_slice(leaving: bool, k: usize) -> Slice {
+    let eta = eta_of_node(k);
+    let eta = if leaving { 1.0 / eta } else { eta };
+    let mut cells = Vec::with_capacity(ROUGHNESS_NODES * MU_NODES);
+    for j in 0..ROUGHNESS_NODES {
+        let r = j as f32 / (ROUGHNESS_NODES - 1) as f32;
+        for i in 0..MU_NODES {
+            let x = i as f32 / (MU_NODES - 1) as f32;
+            cells.push(integrate_dielectric_albedo(x * x, r * r, eta));
+        }
+    }
+    cells
+}
+
+/// Lower node index and weight of the upper neighbour for `x` in node units on `n` nodes.
+#[inline]
+fn position(x: f32, n: usize) -> (usize, f32) {
+    let x = x.clamp(0.0, (n - 1) as f32);
+    let i = (x as usize).min(n - 2);
+    (i, (x - i as f32).clamp(0.0, 1.0))
+}
+
+/// `E(μ, α, η)` of the single-scatter rough dielectric, trilinear in the tables (1 for smooth
+/// interfaces); `eta` is the relative index `η_i/η_o` seen from `wo`'s side, `mu = |n·wo|`.
+#[inline]
+pub fn dielectric_albedo(mu: f32, alpha: f32, eta: f32) -> f32 {
+    if alpha.is_nan() || alpha < SMOOTH_ALPHA || !(eta.is_finite() && eta > 0.0) {
+        return 1.0;
+    }
+    let (leaving, eta) = if eta >= 1.0 {
+        (false, eta)
+    } else {
+        (true, 1.0 / eta)
+    };
+    let s = (eta - 1.0) / (eta + 1.0);
+    let (k, tk) = position(s / S_MAX * (ETA_NODES - 1) as f32, ETA_NODES);
+    let (j, tj) = position(
+        alpha.sqrt().min(1.0) * (ROUGHNESS_NODES - 1) as f32,
+        ROUGHNESS_NODES,
+    );
+    let (i, ti) = position(
+        mu.abs().min(1.0).sqrt() * (MU_NODES - 1) as f32,
+        MU_NODES,
+    );
+    let lerp = |a: f32, b: f32, w: f32| a + (b - a) * w;
+    let bilinear = |k: usize| {
+        let at = |j: usize, i: usize| slice(leaving, k)[j * MU_NODES + i];
+        lerp(
+            lerp(at(j, i), at(j, i + 1), ti),
+            lerp(at(j + 1, i), at(j + 1, i + 1), ti),
+            tj,
+        )
+    };
+    if tk == 0.0 {
+        // On a node (η at a slice, or beyond the last): one slice.
+        return bilinear(k);
+    }
+    lerp(bilinear(k), bilinear(k + 1), tk)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `∫ g(m) dωm` over the upper hemisphere of microfacet normals by the midpoint rule in
+    /// (v, φ), θ = atan(a tan v) (cells packed where GGX of roughness a has its mass).
+    fn integrate_normals(a: f64, g: impl Fn(Vec3) -> f64) -> f64 {
+        let (nv, nphi) = (1200, 256);
+        let (dv, dphi) = (
+            std::f64::consts::FRAC_PI_2 / nv as f64,
+            std::f64::consts::TAU / nphi as f64,
+        );
+        let mut sum = 0.0;
+        for i in 0..nv {
+            let v = (i as f64 + 0.5) * dv;
+            let t = v.tan();
+            let theta = (a * t).atan();
+            let dtheta_dv = a * (1.0 + t * t) / (1.0 + a * a * t * t);
+            for j in 0..nphi {
+                let phi = (j as f64 + 0.5) * dphi;
+                let m = Vec3::new(
+                    (theta.sin() * phi.cos()) as f32,
+                    (theta.sin() * phi.sin()) as f32,
+                    theta.cos() as f32,
+                );
+                sum += g(m) * theta.sin() * dtheta_dv * dv * dphi;
+            }
+        }
+        sum
+    }
+
+    /// The interpolated tables at points between their nodes (roughness, μ and η all off the
+    /// grid) agree with an independent quadrature over microfacet normals of
+    /// `D(m) (wo·m)/μo · [F G2(wo, wr) + (1 − F) G2(wo, wt)]` (the single-scatter BSDF's
+    /// reflected plus transmitted power, moved to the half-vector domain) to 10⁻³, entering
+    /// and leaving.
+    #[test]
+    fn tables_match_an_independent_integral_of_the_single_scatter_dielectric() {
+        let mut worst = 0.0f64;
+        for &eta_out in &[1.33f32, 1.5, 2.1] {
+            for eta in [eta_out, 1.0 / eta_out] {
+                for &roughness in &[0.21f32, 0.5, 0.77, 1.0] {
+                    let alpha = roughness * roughness;
+                    let tr = TrowbridgeReitz::isotropic(alpha);
+                    for &mu in &[0.06f32, 0.3, 0.62, 0.97] {
+                        let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+                        let quadrature = integrate_normals(f64::from(alpha), |m| {
+                            let om = wo.dot(m);
+                            if om <= 0.0 {
+                                return 0.0;
+                            }
+                            let f = fresnel_dielectric(om, eta);
+                            let wr = reflect(wo, m);
+                            let mut g = 0.0;
+                            if wr.z > 0.0 {
+                                g += f * tr.g2(wo, wr);
+                            }
+                            if let Some(wt) = refract(wo, m, eta).filter(|w| w.z < 0.0) {
+                                g += (1.0 - f) * tr.g2(wo, wt);
+                            }
+                            f64::from(tr.d(m) * om / mu * g)
+                        });
+                        let table = f64::from(dielectric_albedo(mu, alpha, eta));
+                        let e = (table - quadrature).abs();
+                        worst = worst.max(e);
+                        assert!(
+                            e < 1e-3,
+                            "η = {eta}, r = {roughness}, μ = {mu}: table {table} vs quadrature {quadrature}"
+                        );
+                    }
+                }
+            }
+        }
+        eprintln!("worst |table − quadrature| = {worst:.2e}");
+    }
+
+    #[test]
+    fn limits() {
+        // Smooth: power is conserved exactly.
+        assert_eq!(dielectric_albedo(0.4, 0.0, 1.5), 1.0);
+        assert_eq!(dielectric_albedo(0.4, 0.5, f32::NAN), 1.0);
+        // Rough glass loses energy to masking, more at high roughness; it never gains.
+        let low = dielectric_albedo(0.7, 0.05, 1.5);
+        let high = dielectric_albedo(0.7, 1.0, 1.5);
+        assert!(high < low && low < 1.0 && high > 0.5, "{low} {high}");
+        // Nodes reproduce their cells exactly.
+        let (k, j, i) = (4, 20, 16);
+        let eta = eta_of_node(k);
+        let r = j as f32 / (ROUGHNESS_NODES - 1) as f32;
+        let x = i as f32 / (MU_NODES - 1) as f32;
+        let cell = integrate_dielectric_albedo(x * x, r * r, 1.0 / eta);
+        assert!((dielectric_albedo(x * x, r * r, 1.0 / eta) - cell).abs() < 1e-5);
+    }
+}
