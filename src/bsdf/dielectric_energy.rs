@@ -24,9 +24,11 @@
 //! Two tables, entering (`η ≥ 1`) and leaving (`1/η`), each over `(√μ, r = √α, s)` with
 //! `s = (η − 1)/(η + 1)` (`√f0` of the interface at normal incidence): [`MU_NODES`] ×
 //! [`ROUGHNESS_NODES`] × [`ETA_NODES`], `s` from 0 (η = 1) to [`S_MAX`] (η = 3; larger indices
-//! read the last slice), trilinear lookups. Each η slice (about 10⁶ visible normals, a tenth
-//! of a second) is built once per process on its first lookup, so a scene's glass of one
-//! index builds two slices per side; deterministic. Smooth interfaces (`α <`
+//! read the last slice), trilinear lookups. Each η slice (4·10⁶ visible normals, a few tenths
+//! of a CPU second, its roughness rows in parallel) is built once per process on its first
+//! lookup, so a scene's glass of one index builds two slices per side; deterministic. (A grid
+//! half as fine in each axis was 2.8·10⁻³ off the quadrature where the albedo bends: across
+//! the critical angle's sweep in η, at grazing μ for low roughness.) Smooth interfaces (`α <`
 //! [`SMOOTH_ALPHA`]) return 1 exactly.
 //!
 //! A thin-walled interface mirrors its transmitted lobe through the tangent plane, so its
@@ -37,19 +39,20 @@
 use super::dielectric::{fresnel_dielectric, refract};
 use super::microfacet::{SMOOTH_ALPHA, TrowbridgeReitz, reflect};
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// Rows: `μ = (i/(MU_NODES − 1))²`.
-pub const MU_NODES: usize = 33;
+pub const MU_NODES: usize = 65;
 /// Columns: perceptual roughness `r = √α = j/(ROUGHNESS_NODES − 1)`.
-pub const ROUGHNESS_NODES: usize = 32;
+pub const ROUGHNESS_NODES: usize = 64;
 /// Slices: `s = (η − 1)/(η + 1) = S_MAX · k/(ETA_NODES − 1)`.
-pub const ETA_NODES: usize = 17;
+pub const ETA_NODES: usize = 33;
 /// The largest tabulated `s`: η = 3 (glTF's KHR_materials_ior lists 1–2.42 for common
 /// materials; beyond 3 the last slice is read).
 pub const S_MAX: f32 = 0.5;
 /// Quasi-Monte Carlo points per cell (a power of two).
-const SAMPLES_PER_CELL: u32 = 1024;
+const SAMPLES_PER_CELL: u32 = 4096;
 
 /// One slice of a table: `E` at `[j · MU_NODES + i]` for one η node and side.
 type Slice = Vec<f32>;
@@ -110,19 +113,20 @@ pub fn integrate_dielectric_albedo(mu: f32, alpha: f32, eta: f32) -> f32 {
     (sum / f64::from(SAMPLES_PER_CELL) / f64::from(g1)) as f32
 }
 
-/// The cells of one slice, `(j, i)` row-major.
+/// The cells of one slice, `(j, i)` row-major, roughness rows in parallel.
 fn build_slice(leaving: bool, k: usize) -> Slice {
     let eta = eta_of_node(k);
     let eta = if leaving { 1.0 / eta } else { eta };
-    let mut cells = Vec::with_capacity(ROUGHNESS_NODES * MU_NODES);
-    for j in 0..ROUGHNESS_NODES {
-        let r = j as f32 / (ROUGHNESS_NODES - 1) as f32;
-        for i in 0..MU_NODES {
-            let x = i as f32 / (MU_NODES - 1) as f32;
-            cells.push(integrate_dielectric_albedo(x * x, r * r, eta));
-        }
-    }
-    cells
+    (0..ROUGHNESS_NODES)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let r = j as f32 / (ROUGHNESS_NODES - 1) as f32;
+            (0..MU_NODES).map(move |i| {
+                let x = i as f32 / (MU_NODES - 1) as f32;
+                integrate_dielectric_albedo(x * x, r * r, eta)
+            })
+        })
+        .collect()
 }
 
 /// Lower node index and weight of the upper neighbour for `x` in node units on `n` nodes.
@@ -210,6 +214,7 @@ mod tests {
     #[test]
     fn tables_match_an_independent_integral_of_the_single_scatter_dielectric() {
         let mut worst = 0.0f64;
+        let mut bad = Vec::new();
         for &eta_out in &[1.33f32, 1.5, 2.1] {
             for eta in [eta_out, 1.0 / eta_out] {
                 for &roughness in &[0.21f32, 0.5, 0.77, 1.0] {
@@ -236,15 +241,17 @@ mod tests {
                         let table = f64::from(dielectric_albedo(mu, alpha, eta));
                         let e = (table - quadrature).abs();
                         worst = worst.max(e);
-                        assert!(
-                            e < 1e-3,
-                            "η = {eta}, r = {roughness}, μ = {mu}: table {table} vs quadrature {quadrature}"
-                        );
+                        if e >= 1e-3 {
+                            bad.push(format!(
+                                "η = {eta}, r = {roughness}, μ = {mu}: table {table} vs quadrature {quadrature}"
+                            ));
+                        }
                     }
                 }
             }
         }
         eprintln!("worst |table − quadrature| = {worst:.2e}");
+        assert!(bad.is_empty(), "off by 10⁻³ or more:\n{}", bad.join("\n"));
     }
 
     #[test]
@@ -257,7 +264,7 @@ mod tests {
         let high = dielectric_albedo(0.7, 1.0, 1.5);
         assert!(high < low && low < 1.0 && high > 0.5, "{low} {high}");
         // Nodes reproduce their cells exactly.
-        let (k, j, i) = (4, 20, 16);
+        let (k, j, i) = (8, 40, 32);
         let eta = eta_of_node(k);
         let r = j as f32 / (ROUGHNESS_NODES - 1) as f32;
         let x = i as f32 / (MU_NODES - 1) as f32;
