@@ -560,16 +560,24 @@ impl Map {
                 self.texel(i, j)
             }
             Interpolation::Bilinear => {
+                // uv ∈ [0, 1)², so x, y ∈ [−0.5, size − 0.5): the floor is −1 below 0 and
+                // the truncation above, found without `floorf` or integer division (this
+                // runs for every escaped ray). Wrap in u, clamp in v.
                 let x = uv.x * w as f32 - 0.5;
                 let y = uv.y * h as f32 - 0.5;
-                let (x0, y0) = (x.floor(), y.floor());
-                let (fx, fy) = (x - x0, y - y0);
-                // Wrap in u; x0 ≥ −1, so adding w keeps it non-negative.
-                let i0 = (x0 as i64 + w as i64).rem_euclid(w as i64) as usize;
-                let i1 = (i0 + 1) % w;
-                // Clamp in v.
-                let j0 = (y0.max(0.0) as usize).min(h - 1);
-                let j1 = ((y0 + 1.0).max(0.0) as usize).min(h - 1);
+                let (i0, fx) = if x < 0.0 {
+                    (w - 1, x + 1.0)
+                } else {
+                    let i = (x as usize).min(w - 1);
+                    (i, x - i as f32)
+                };
+                let i1 = if i0 + 1 == w { 0 } else { i0 + 1 };
+                let (j0, j1, fy) = if y < 0.0 {
+                    (0, 0, y + 1.0)
+                } else {
+                    let j = y as usize;
+                    ((j).min(h - 1), (j + 1).min(h - 1), y - j as f32)
+                };
                 let top = self.texel(i0, j0).lerp(self.texel(i1, j0), fx);
                 let bottom = self.texel(i0, j1).lerp(self.texel(i1, j1), fx);
                 top.lerp(bottom, fy)
