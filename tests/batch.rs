@@ -182,7 +182,11 @@ fn resume_and_merge_check_the_brdf_model() {
     let first = glint(&["batch", "jobs.toml", "-q"], dir.path());
     assert!(first.status.success(), "{}", stderr(&first));
     let text = std::fs::read_to_string(&file).unwrap();
-    std::fs::write(&file, text.replace("spp = 1\n", "spp = 1\nbrdf = \"spec\"\n")).unwrap();
+    std::fs::write(
+        &file,
+        text.replace("spp = 1\n", "spp = 1\nbrdf = \"spec\"\n"),
+    )
+    .unwrap();
     let second = glint(
         &["batch", "jobs.toml", "--report", "r.json", "-q"],
         dir.path(),
@@ -204,8 +208,8 @@ fn resume_and_merge_check_the_brdf_model() {
     let scene = demo().display().to_string();
     let part = |brdf: &str, shard: &str, out: &str| {
         let args = [
-            "render", &scene, "--width", "16", "--height", "12", "--spp", "2", "-q",
-            "--shard", shard, "-o", out, "--brdf", brdf,
+            "render", &scene, "--width", "16", "--height", "12", "--spp", "2", "-q", "--shard",
+            shard, "-o", out, "--brdf", brdf,
         ];
         let run = glint(&args, dir.path());
         assert!(run.status.success(), "{}", stderr(&run));
@@ -225,7 +229,10 @@ fn resume_and_merge_check_the_brdf_model() {
         .iter()
         .find(|(k, _)| **k == *"glint.brdf")
         .map(|(_, v)| format!("{v:?}"));
-    assert!(brdf.is_some_and(|v| v.contains("spec")), "merged EXR header");
+    assert!(
+        brdf.is_some_and(|v| v.contains("spec")),
+        "merged EXR header"
+    );
 }
 
 #[test]

@@ -14,9 +14,9 @@ mod render_support;
 
 use glam::{Vec2, Vec3, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
-use glint::light::environment::EnvironmentLight;
-use glint::bsdf::sheen::{directional_albedo, sheen_albedo};
 use glint::bsdf::SheenBsdf;
+use glint::bsdf::sheen::{directional_albedo, sheen_albedo};
+use glint::light::environment::EnvironmentLight;
 use glint::render::{
     self, BrdfModel, Image, Integrator, PixelSampling, RenderInputs, RenderSettings,
 };
@@ -118,7 +118,8 @@ fn furnace_with_noise(
     max_depth: u32,
 ) -> (f64, Vec<f64>, Vec<f64>) {
     let image = furnace_image(material, brdf, backend, spp, max_depth);
-    let value = |x: u32, y: u32| f64::from(image.pixels[(y * SIZE + x) as usize].dot(Vec3::ONE)) / 3.0;
+    let value =
+        |x: u32, y: u32| f64::from(image.pixels[(y * SIZE + x) as usize].dot(Vec3::ONE)) / 3.0;
     let (mean, rings) = disc_statistics(value);
     let (_, squares) = disc_statistics(|x, y| value(x, y) * value(x, y));
     let mut n = [0usize; RINGS];
@@ -267,8 +268,13 @@ fn rough_glass_spheres_reflect_and_transmit_the_furnace_exactly() {
             (1.5, 0.5, 128),
             (1.5, 1.0, 768),
         ] {
-            let (mean, rings, se) =
-                furnace_with_noise(glass(ior, roughness), BrdfModel::Compensated, backend, spp, 256);
+            let (mean, rings, se) = furnace_with_noise(
+                glass(ior, roughness),
+                BrdfModel::Compensated,
+                backend,
+                spp,
+                256,
+            );
             let what = format!("{backend}, glass ior {ior}, roughness {roughness}, {spp} spp");
             eprintln!("{what}: mean {mean:.4}, rings {rings:.4?} ± {se:.4?}");
             if (mean - 1.0).abs() > 0.01
@@ -281,7 +287,9 @@ fn rough_glass_spheres_reflect_and_transmit_the_furnace_exactly() {
         let (spec, rings) = furnace(glass(1.5, 1.0), BrdfModel::Spec, backend, 16);
         eprintln!("spec, {backend}, glass ior 1.5, roughness 1: mean {spec:.4}, rings {rings:.4?}");
         if spec > 0.5 {
-            failures.push(format!("{backend}: single-scatter rough glass at {spec}, expected below 0.5"));
+            failures.push(format!(
+                "{backend}: single-scatter rough glass at {spec}, expected below 0.5"
+            ));
         }
     }
     assert!(
@@ -368,10 +376,19 @@ fn a_white_sheen_over_a_white_base_reflects_its_closed_form() {
         eprintln!(
             "{backend}, white sheen over white Lambert: mean {mean:.4} (closed form {want_mean:.4}), rings {rings:.4?} ± {se:.4?} (closed form {want_rings:.4?})"
         );
-        assert!(se.iter().all(|&e| 4.0 * e <= 0.02), "{backend}: sheen rings too noisy: {se:?}");
-        assert!((mean - want_mean).abs() <= 0.01, "{backend}: sheen mean {mean} vs {want_mean}");
+        assert!(
+            se.iter().all(|&e| 4.0 * e <= 0.02),
+            "{backend}: sheen rings too noisy: {se:?}"
+        );
+        assert!(
+            (mean - want_mean).abs() <= 0.01,
+            "{backend}: sheen mean {mean} vs {want_mean}"
+        );
         for (i, (r, w)) in rings.iter().zip(&want_rings).enumerate() {
-            assert!((r - w).abs() <= 0.02, "{backend}: sheen ring {i} = {r} vs {w}");
+            assert!(
+                (r - w).abs() <= 0.02,
+                "{backend}: sheen ring {i} = {r} vs {w}"
+            );
         }
     }
 }

@@ -110,7 +110,7 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/embree/exr", 0x23abb67b09723173), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("2CylinderEngine/embree/png", 0x3322150c97ae209f), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("2CylinderEngine/embree/exr", 0x703626ea7b0acf33), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
-    ("demo/embree/partial", 0x270b1643ec58f350), // re-recorded (issue 22, third slice): the partial EXR's header names its model (`glint.brdf`); pixels unchanged
+    ("demo/embree/partial", 0x270b1643ec58f350), // re-recorded (issue 22, third slice): the partial EXR's header gains `glint.brdf` (the demo PNG and EXR, same render, kept their hashes)
     ("demo/embree/progressive", 0xfa04f3a7e28abf5e), // re-recorded (issue 23): adaptive sampling is on with --target-error, so the EXR gains a `samples` channel; RGBA unchanged (0x0645465475dcad09 with --adaptive 0)
     ("demo/embree/photometric", 0xdd6e5ecf38535984), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("batch/embree", 0x778fb7eb17214934), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
@@ -126,7 +126,7 @@ const EXPECTED: &[(&str, u64)] = &[
     ("DamagedHelmet/bvh/exr", 0x23abb67b09723173), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("2CylinderEngine/bvh/png", 0x3322150c97ae209f), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("2CylinderEngine/bvh/exr", 0x703626ea7b0acf33), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
-    ("demo/bvh/partial", 0x270b1643ec58f350), // re-recorded (issue 22, third slice): the partial EXR's header names its model (`glint.brdf`); pixels unchanged
+    ("demo/bvh/partial", 0x270b1643ec58f350), // re-recorded (issue 22, third slice): the partial EXR's header gains `glint.brdf` (the demo PNG and EXR, same render, kept their hashes)
     ("demo/bvh/progressive", 0xfa04f3a7e28abf5e), // re-recorded (issue 23): adaptive sampling is on with --target-error, so the EXR gains a `samples` channel; RGBA unchanged (0x0645465475dcad09 with --adaptive 0)
     ("demo/bvh/photometric", 0xdd6e5ecf38535984), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("batch/bvh", 0x778fb7eb17214934), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base

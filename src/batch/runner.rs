@@ -406,7 +406,7 @@ pub fn output_is_complete(job: &Job) -> bool {
                     .other
                     .get(&exr::meta::attribute::Text::from(BRDF_ATTRIBUTE));
                 if let Some(exr::meta::attribute::AttributeValue::Text(model)) = model
-                    && model.to_string() != job.render.settings.brdf.name()
+                    && *model != *job.render.settings.brdf.name()
                 {
                     return None;
                 }

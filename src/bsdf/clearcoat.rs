@@ -31,12 +31,13 @@
 //! lobe is scaled by `1/E0(n·wo)` (Turquin's factor for a white lobe): the coat then reflects
 //! `c Fc(wo)` exactly, as the layering means it to, and a coat over a white compensated base
 //! reflects 1. The sampler is the compensated lobes' mixture of folded reflection and cosine
-//! draws ([`TrowbridgeReitz::sample_compensated_reflection`], `u_lobe` choosing).
+//! draws ([`compensated_sampling`](super::compensated_sampling), `u_lobe` choosing).
 //! [`BrdfModel::Spec`]: the formulas above, single scattering.
 
+use super::compensated_sampling;
 use super::energy::ggx_albedo;
 use super::microfacet::{TrowbridgeReitz, reflect};
-use super::{Bsdf, BrdfModel, BsdfFlags, BsdfSample, Frame};
+use super::{BrdfModel, Bsdf, BsdfFlags, BsdfSample, Frame};
 use glam::{Vec2, Vec3};
 
 /// The clear-coat lobe alone, `c · Fc(wo) · D · V` (see the module documentation).
@@ -192,7 +193,7 @@ impl ClearcoatBsdf {
             return 0.0;
         }
         if self.model == BrdfModel::Compensated {
-            return self.distribution.compensated_reflection_pdf(wo, wi);
+            return compensated_sampling::pdf(&self.distribution, wo, wi);
         }
         let h = (wo + wi).normalize_or_zero();
         if h == Vec3::ZERO {
@@ -218,8 +219,7 @@ impl ClearcoatBsdf {
         let wi = match self.model {
             BrdfModel::Spec => reflect(wo, self.distribution.sample_visible(wo, u)),
             BrdfModel::Compensated => {
-                self.distribution
-                    .sample_compensated_reflection(wo, u_lobe, u)
+                compensated_sampling::sample(&self.distribution, wo, u_lobe, u)
             }
         };
         if wi.z <= 0.0 {

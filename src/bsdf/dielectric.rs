@@ -58,7 +58,7 @@
 use super::dielectric_energy::dielectric_albedo;
 use super::energy::ggx_albedo;
 use super::microfacet::{TrowbridgeReitz, reflect};
-use super::{Bsdf, BrdfModel, BsdfFlags, BsdfSample};
+use super::{BrdfModel, Bsdf, BsdfFlags, BsdfSample};
 use glam::{Vec2, Vec3};
 
 /// The dielectric interface (see the module documentation).

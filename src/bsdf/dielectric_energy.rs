@@ -155,10 +155,7 @@ pub fn dielectric_albedo(mu: f32, alpha: f32, eta: f32) -> f32 {
         alpha.sqrt().min(1.0) * (ROUGHNESS_NODES - 1) as f32,
         ROUGHNESS_NODES,
     );
-    let (i, ti) = position(
-        mu.abs().min(1.0).sqrt() * (MU_NODES - 1) as f32,
-        MU_NODES,
-    );
+    let (i, ti) = position(mu.abs().min(1.0).sqrt() * (MU_NODES - 1) as f32, MU_NODES);
     let lerp = |a: f32, b: f32, w: f32| a + (b - a) * w;
     let bilinear = |k: usize| {
         let at = |j: usize, i: usize| slice(leaving, k)[j * MU_NODES + i];

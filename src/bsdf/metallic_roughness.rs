@@ -32,7 +32,7 @@
 //! `f · cos θi / pdf` with that mixture, so `sample` and `pdf` agree whatever lobe drew `wi`.
 //! Under [`BrdfModel::Compensated`] the specular lobe folds the reflections that fall below
 //! the horizon back above it and mixes in cosine-weighted draws, a share `α²/2`
-//! ([`TrowbridgeReitz::sample_compensated_reflection`]), with the mixture's exact density:
+//! ([`compensated_sampling`](super::compensated_sampling)), with the mixture's exact density:
 //! same expectation, no lost draws, so the compensated rough metal's path weights stay near 1
 //! (see `docs/bsdf.md`).
 //!
@@ -82,6 +82,7 @@
 //! Reflection only: `wo` below the surface (`wo.z ≤ 0`) reflects nothing; the caller orients
 //! the shading frame toward `wo` for two-sided surfaces.
 
+use super::compensated_sampling;
 use super::energy::{
     ggx_albedo, ggx_albedo_average, multiple_scattering_factor, multiple_scattering_fresnel,
     schlick_albedo, schlick_fresnel_average,
@@ -299,13 +300,14 @@ impl MetallicRoughnessBsdf {
     /// The density of the specular lobe's sampler at `wi` (both directions above the
     /// surface): plain visible-normal reflection for [`BrdfModel::Spec`] (draws below the
     /// horizon are lost, as before), the folded sampler mixed with cosine draws for
-    /// [`BrdfModel::Compensated`] (see [`TrowbridgeReitz::sample_compensated_reflection`]).
+    /// [`BrdfModel::Compensated`] (see [`compensated_sampling`](super::compensated_sampling)).
     #[inline]
     fn specular_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self.model {
-            BrdfModel::Spec => Self::half(wo, wi)
-                .map_or(0.0, |h| self.distribution.reflection_pdf(wo, h)),
-            BrdfModel::Compensated => self.distribution.compensated_reflection_pdf(wo, wi),
+            BrdfModel::Spec => {
+                Self::half(wo, wi).map_or(0.0, |h| self.distribution.reflection_pdf(wo, h))
+            }
+            BrdfModel::Compensated => compensated_sampling::pdf(&self.distribution, wo, wi),
         }
     }
 
@@ -365,8 +367,7 @@ impl Bsdf for MetallicRoughnessBsdf {
                 BrdfModel::Spec => reflect(wo, self.distribution.sample_visible(wo, u)),
                 BrdfModel::Compensated => {
                     let u_choice = (u_lobe / ps).clamp(0.0, 1.0);
-                    self.distribution
-                        .sample_compensated_reflection(wo, u_choice, u)
+                    compensated_sampling::sample(&self.distribution, wo, u_choice, u)
                 }
             }
         } else {

@@ -24,7 +24,6 @@
 //! overflows single precision long before α reaches 0, and such surfaces are mirrors in all
 //! but name.
 
-use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
 
@@ -184,43 +183,6 @@ impl TrowbridgeReitz {
             }
         };
         plain(wi) + plain(Vec3::new(wi.x, wi.y, -wi.z))
-    }
-
-    /// The share of cosine-hemisphere draws in
-    /// [`sample_compensated_reflection`](Self::sample_compensated_reflection): `α²/2`
-    /// (`α² = αx αy`), a half at α = 1 and negligible for glossy lobes.
-    #[inline]
-    pub fn cosine_share(&self) -> f32 {
-        0.5 * self.alpha_x * self.alpha_y
-    }
-
-    /// The sampler of an energy-compensated rough lobe: with probability
-    /// [`cosine_share`](Self::cosine_share) (chosen by `u_choice`) a cosine-weighted direction,
-    /// otherwise the folded reflection
-    /// ([`sample_folded_reflection`](Self::sample_folded_reflection)). A compensated lobe's
-    /// `f cos θi` is broad at high roughness, where the visible-normal draw alone leaves weights
-    /// `G2/G1 · k` between 0 and `1/E0`; the mixture's density
-    /// ([`compensated_reflection_pdf`](Self::compensated_reflection_pdf)) follows `f cos θi`
-    /// closely enough that at α = 1 the weights' second moment is 1.05–1.08 (the plain sampler:
-    /// 1.2–2.4) and no weight exceeds 1.35 (measured by quadrature over cos θo = 0.1–1).
-    #[inline]
-    pub fn sample_compensated_reflection(&self, wo: Vec3, u_choice: f32, u: Vec2) -> Vec3 {
-        if u_choice < self.cosine_share() {
-            cosine_hemisphere(u)
-        } else {
-            self.sample_folded_reflection(wo, u)
-        }
-    }
-
-    /// The density of [`sample_compensated_reflection`](Self::sample_compensated_reflection):
-    /// `(1 − c) (p(wi) + p(wi')) + c cos θi/π` with `c` the cosine share.
-    #[inline]
-    pub fn compensated_reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return 0.0;
-        }
-        let c = self.cosine_share();
-        (1.0 - c) * self.folded_reflection_pdf(wo, wi) + c * cosine_hemisphere_pdf(wi.z)
     }
 }
 

@@ -12,6 +12,7 @@
 
 pub mod albedo_quadrature;
 pub mod clearcoat;
+pub mod compensated_sampling;
 pub mod dielectric;
 pub mod dielectric_energy;
 pub mod energy;

@@ -5,13 +5,12 @@
 use super::harness::{P_THRESHOLD, check_sampling, dir, reciprocity_error, rng};
 use glam::{Vec2, Vec3};
 use glint::bsdf::dielectric::fresnel_dielectric;
-use glint::bsdf::sheen::sheen_albedo;
 use glint::bsdf::dielectric_energy::dielectric_albedo;
 use glint::bsdf::energy::ggx_albedo;
 use glint::bsdf::sheen::directional_albedo;
+use glint::bsdf::sheen::sheen_albedo;
 use glint::bsdf::{
-    BrdfModel, Bsdf, ClearcoatBsdf, DielectricBsdf, LayeredBsdf, MetallicRoughnessBsdf,
-    SheenBsdf,
+    BrdfModel, Bsdf, ClearcoatBsdf, DielectricBsdf, LayeredBsdf, MetallicRoughnessBsdf, SheenBsdf,
 };
 use glint::sampling::warp::{UNIFORM_SPHERE_PDF, uniform_sphere};
 use rand::Rng;
@@ -102,8 +101,7 @@ fn rough_dielectric_sampling_matches_pdf() {
             .iter()
             .enumerate()
         {
-            let b =
-                DielectricBsdf::new(eta, r, Vec3::new(1.0, 0.8, 0.6), false).with_model(model);
+            let b = DielectricBsdf::new(eta, r, Vec3::new(1.0, 0.8, 0.6), false).with_model(model);
             assert_sampling_ok(
                 &format!("{model} dielectric η = {eta}, r = {r}"),
                 &b,
