@@ -63,6 +63,7 @@ pub const RENDER_KEYS: [&str; 31] = [
     "adaptive",
     "clamp_indirect",
     "mis_compensation",
+    "guiding",
     "output",
     "denoise",
 ];
@@ -206,6 +207,7 @@ pub fn job_from_kwargs(
             },
             mis_compensation: get::<bool>(kwargs, "mis_compensation")?
                 .unwrap_or(defaults.settings.mis_compensation),
+            guiding: get::<bool>(kwargs, "guiding")?.unwrap_or(defaults.settings.guiding),
             ..defaults.settings
         },
         samples,
