@@ -83,8 +83,12 @@ impl Guiding {
     /// its vertices this pass.
     #[inline]
     pub fn records(&self, pixel: u64, sample: u32) -> bool {
-        self.record_stride
-            .is_some_and(|s| (pixel.wrapping_mul(7919) + u64::from(sample)) % s == 0)
+        self.record_stride.is_some_and(|s| {
+            pixel
+                .wrapping_mul(7919)
+                .wrapping_add(u64::from(sample))
+                .is_multiple_of(s)
+        })
     }
 
     /// The directional distribution that guides the continuation at world point `p` of a
@@ -158,7 +162,8 @@ pub(crate) fn sample(
     };
     let pdf = mixture_pdf(Some(guide), bsdf, wo, wl, wi);
     let f = bsdf.eval(wo, wl);
-    if !(pdf > 0.0) || f == Vec3::ZERO {
+    // Also rejects a NaN density.
+    if pdf.is_nan() || pdf <= 0.0 || f == Vec3::ZERO {
         return None;
     }
     Some(GuidedSample {
