@@ -33,7 +33,7 @@ pub const AOV_NAMES: [&str; 11] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 31] = [
+pub const RENDER_KEYS: [&str; 32] = [
     "sidecar",
     "annotations",
     "categories",
