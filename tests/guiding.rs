@@ -388,3 +388,39 @@ fn guiding_is_refused_for_the_direct_integrator_and_partial_renders() {
         .unwrap_err();
     assert!(err.to_string().contains("partial"), "{err}");
 }
+
+#[test]
+fn progressive_guided_renders_train_and_do_not_depend_on_the_thread_count() {
+    // A progressive render relearns the guide after 2, 4, 8 and 16 spp whatever its passes;
+    // the image is the same bytes for 1 and 2 threads, and it is not the unguided one.
+    let scene = floor_under_a_lamp(floor(0.6, 0.5, 0.5), 5.0, 0.3);
+    let camera = ortho(Vec3::new(3.0, 0.5, 0.4), Vec3::ZERO, Vec3::Y, 2.0, 2.0);
+    let accel = render::prepare(&scene, BackendKind::default(), BuildOptions::default()).unwrap();
+    let inputs = RenderInputs::of_scene(&scene, accel.as_ref(), &camera);
+    let rule = render::StopRule {
+        target_error: Some(1e-4),
+        max_spp: 40,
+        ..render::StopRule::default()
+    };
+    let run = |threads, guiding| {
+        let s = RenderSettings {
+            threads,
+            width: 32,
+            height: 16,
+            seed: 5,
+            ..settings(40, guiding, LightStrategy::Mis)
+        };
+        let out =
+            render::progressive::render_progressive_with(&inputs, &s, &rule, None).expect("render");
+        assert_eq!(out.spp, 40);
+        out.output
+            .image
+            .pixels
+            .iter()
+            .flat_map(|p| p.to_array().map(f32::to_bits))
+            .collect::<Vec<_>>()
+    };
+    let guided = run(1, true);
+    assert_eq!(guided, run(2, true));
+    assert_ne!(guided, run(2, false));
+}
