@@ -16,6 +16,7 @@ pub mod converge;
 pub mod denoise;
 pub mod geometry;
 pub mod gt_check;
+pub mod guiding;
 pub mod job;
 pub mod light;
 pub mod material;

@@ -33,7 +33,7 @@ pub const AOV_NAMES: [&str; 11] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 31] = [
+pub const RENDER_KEYS: [&str; 32] = [
     "sidecar",
     "annotations",
     "categories",
@@ -63,6 +63,7 @@ pub const RENDER_KEYS: [&str; 31] = [
     "adaptive",
     "clamp_indirect",
     "mis_compensation",
+    "guiding",
     "output",
     "denoise",
 ];
@@ -206,6 +207,7 @@ pub fn job_from_kwargs(
             },
             mis_compensation: get::<bool>(kwargs, "mis_compensation")?
                 .unwrap_or(defaults.settings.mis_compensation),
+            guiding: get::<bool>(kwargs, "guiding")?.unwrap_or(defaults.settings.guiding),
             ..defaults.settings
         },
         samples,

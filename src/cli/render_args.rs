@@ -181,6 +181,11 @@ pub struct RenderArgs {
     /// BSDF samples share the work (for comparisons; unbiased either way).
     #[arg(long)]
     pub no_mis_compensation: bool,
+    /// Path guiding (path tracer only, unbiased): learn where light comes from in the first
+    /// quarter of the samples, then draw half of each rough vertex's continuations from it.
+    /// Finds glossy caustics light sampling cannot (see docs/speed.md for what it buys).
+    #[arg(long)]
+    pub guiding: bool,
     /// Sample cap of a progressive render.
     #[arg(long, default_value_t = render::progressive::DEFAULT_MAX_SPP)]
     pub max_spp: u32,
@@ -345,6 +350,7 @@ impl RenderArgs {
                     x => x,
                 },
                 mis_compensation: !self.no_mis_compensation,
+                guiding: self.guiding,
                 ..RenderSettings::default()
             },
             samples,

@@ -18,6 +18,7 @@ pub mod camera;
 pub mod film;
 pub mod filter;
 pub mod ground_truth;
+pub mod guided;
 pub mod ids;
 pub mod kernel;
 pub mod medium;
@@ -106,6 +107,10 @@ pub struct RenderSettings {
     /// with BSDF samples by MIS, environment directions come from the map's excess over its
     /// mean (Karlík et al. 2019), leaving the dim part to BSDF sampling. Unbiased either way.
     pub mis_compensation: bool,
+    /// Path guiding ([`guided`], [`crate::guiding`]; off by default): the path tracer learns
+    /// where light comes from in its first passes and then draws half of each rough vertex's
+    /// continuations from what it learned. Unbiased; path tracer only.
+    pub guiding: bool,
 }
 
 /// How the path tracer estimates light from surfaces and the environment it can also hit.
@@ -156,6 +161,7 @@ impl Default for RenderSettings {
             adaptive: None,
             clamp_indirect: None,
             mis_compensation: true,
+            guiding: false,
         }
     }
 }
@@ -256,14 +262,32 @@ pub fn render_with(
     settings: &RenderSettings,
     progress: Option<Progress<'_>>,
 ) -> Result<RenderOutput, RenderError> {
-    if settings.adaptive.is_none() {
+    if settings.adaptive.is_none() && !settings.guiding {
         let (film, stats) = render_film(inputs, settings, 0..settings.spp, progress)?;
         let (image, aovs) = film.resolve();
         return Ok(RenderOutput { image, aovs, stats });
     }
     let mut renderer = TileScheduler::with_inputs(inputs, settings)?;
-    for pass in adaptive::schedule(settings.spp) {
-        if renderer.samples_per_pixel() > 0 {
+    // Passes end where adaptive sampling decides and where the guide is relearned.
+    let adaptive_passes = if settings.adaptive.is_some() {
+        adaptive::schedule(settings.spp)
+    } else {
+        Vec::new()
+    };
+    let decisions: Vec<u32> = adaptive_passes
+        .iter()
+        .scan(0u32, |total, &p| {
+            *total += p;
+            Some(*total)
+        })
+        .collect();
+    let training = if settings.guiding {
+        guided::training_passes(settings.spp)
+    } else {
+        Vec::new()
+    };
+    for pass in guided::merged_schedule(settings.spp, &adaptive_passes, &training) {
+        if decisions.contains(&renderer.samples_per_pixel()) {
             renderer.adapt();
         }
         renderer.render_pass(pass, progress);
@@ -420,6 +444,13 @@ pub fn render_film(
                 .into(),
         ));
     }
+    if settings.guiding {
+        return Err(RenderError::Settings(
+            "path guiding trains across a whole render's passes (render_with), so it cannot \
+             render sample ranges or partial renders; drop --guiding"
+                .into(),
+        ));
+    }
     if settings.spp > 0 && (samples.start >= samples.end || samples.end > settings.spp) {
         return Err(RenderError::Settings(format!(
             "sample range {}..{} must be non-empty and within 0..{} (the samples per pixel)",
@@ -457,6 +488,9 @@ pub(crate) fn validate(s: &RenderSettings) -> Result<(), RenderError> {
         return bad(format!(
             "adaptive threshold {t} must be a positive relative error, e.g. 0.01"
         ));
+    }
+    if s.guiding && s.integrator != Integrator::Path {
+        return bad("path guiding (--guiding) needs the path tracer: add --integrator path".into());
     }
     if let Some(c) = s.clamp_indirect
         && !(c > 0.0 && c.is_finite())

@@ -40,6 +40,7 @@
 
 use super::LightStrategy;
 use super::film::TileSums;
+use super::guided::{NO_RECORD, TrainingLog};
 use super::medium::Medium;
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
@@ -52,6 +53,7 @@ use super::wavefront::{
 use crate::accel::{Hit, Ray};
 use crate::bsdf::{Bsdf, BsdfFlags, Frame};
 use crate::geometry::{SurfaceInteraction, spawn_ray, spawn_ray_to};
+use crate::guiding::{Directional, Record};
 use crate::light::area::AreaSample;
 use crate::light::{LightSample, NoLightSample, ShadowTarget, Unlit};
 use crate::material::{HitQuery, SurfaceBsdf, at_hit, material_index};
@@ -82,6 +84,10 @@ pub(crate) struct PathState {
     origin_normal: Vec3,
     /// The medium the ray travels in (KHR_materials_volume; outside for every other scene).
     medium: Medium,
+    /// Whether the path logs its vertices for training the guide (`render::guided`).
+    trains: bool,
+    /// Its last logged vertex, or [`NO_RECORD`].
+    record: u32,
 }
 
 /// Buffers of the path tracer, reused across tiles.
@@ -97,6 +103,8 @@ pub(crate) struct PathScratch {
     /// Film positions of the camera rays, index-aligned with the first round's `rays` (for
     /// their differentials; only when the render carries them).
     film: Vec<Vec2>,
+    /// Training paths' logged vertices (`--guiding`, training passes only).
+    log: TrainingLog,
 }
 
 /// The power heuristic (β = 2) weight of a sample drawn with density `a` against another
@@ -110,12 +118,14 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }
 
-/// Renders one tile with the path tracer (or the direct integrator, see the module doc).
+/// Renders one tile with the path tracer (or the direct integrator, see the module doc). While
+/// the pass trains the guide, training paths' records are appended to `records`.
 pub(crate) fn render_tile(
     ctx: &TileContext<'_>,
     pass: Pass<'_>,
     tile: &Tile,
     s: &mut PathScratch,
+    records: &mut Vec<Record>,
 ) -> (TileSums, RayCounts) {
     let mut sums = TileSums::new(tile.pixel_count(), ctx.aovs);
     let mut counts = RayCounts::default();
@@ -151,6 +161,10 @@ pub(crate) fn render_tile(
                 origin: ray.origin,
                 origin_normal: Vec3::ZERO,
                 medium: Medium::OUTSIDE,
+                trains: ctx
+                    .guiding
+                    .records(u64::from(y) << 32 | u64::from(x), sample),
+                record: NO_RECORD,
             });
         }
         let mut depth = 0;
@@ -169,7 +183,7 @@ pub(crate) fn render_tile(
             for i in 0..s.rays.len() {
                 let (ray, path) = (s.rays[i], s.paths[i]);
                 let Some(hit) = s.hits[i] else {
-                    escaped(ctx, &ray, &path, depth, &mut sums);
+                    escaped(ctx, &ray, &path, depth, &mut sums, &mut s.log);
                     continue;
                 };
                 let film = if carry && primary {
@@ -193,16 +207,22 @@ pub(crate) fn render_tile(
                         next_paths: &mut s.next_paths,
                         shadows: &mut s.shadows,
                         counts: &mut counts,
+                        log: &mut s.log,
                     },
                 );
             }
             s.shadows
                 .trace(ctx, (coherence, batch), &mut counts, &mut sums);
+            if ctx.guiding.record_stride.is_some() {
+                s.shadows
+                    .for_each_unblocked(|record, value| s.log.credit(record, value));
+            }
             std::mem::swap(&mut s.rays, &mut s.next_rays);
             std::mem::swap(&mut s.paths, &mut s.next_paths);
             depth += 1;
         }
         sums.end_sample(sample, &s.weights);
+        s.log.drain_into(records);
     }
     (sums, counts)
 }
@@ -211,7 +231,14 @@ pub(crate) fn render_tile(
 /// sampling unless the ray is a camera ray (shown only when the environment is visible) or
 /// left a delta lobe.
 #[inline]
-fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, depth: u32, sums: &mut TileSums) {
+fn escaped(
+    ctx: &TileContext<'_>,
+    ray: &Ray,
+    path: &PathState,
+    depth: u32,
+    sums: &mut TileSums,
+    log: &mut TrainingLog,
+) {
     let Some(env) = ctx.environment else {
         return;
     };
@@ -242,6 +269,7 @@ fn escaped(ctx: &TileContext<'_>, ray: &Ray, path: &PathState, depth: u32, sums:
         depth >= INDIRECT_DEPTH,
     );
     sums.pending[path.pixel as usize] += value;
+    log.credit(path.record, value);
 }
 
 /// Depth of the ray (or, for a light sample, of the vertex plus one) from which light counts
@@ -311,6 +339,7 @@ struct Queues<'q> {
     next_paths: &'q mut Vec<PathState>,
     shadows: &'q mut ShadowQueue,
     counts: &'q mut RayCounts,
+    log: &'q mut TrainingLog,
 }
 
 /// One path vertex, as pbrt-v4's `PathIntegrator::Li` reads: the surface front end, emission
@@ -365,6 +394,7 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         // KHR_materials_unlit: ρ leaves the surface as radiance and nothing scatters. Light
         // sampling never picks unlit surfaces, so BSDF sampling finds them with weight 1.
         sums.pending[pixel] += path.beta * surface.albedo;
+        q.log.credit(path.record, path.beta * surface.albedo);
         return;
     }
     if surface.emission != Vec3::ZERO {
@@ -377,13 +407,21 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
             )
         });
         let value = path.beta * surface.emission * w;
-        sums.pending[pixel] += clamped(ctx, value, path.filter_weight, v.depth >= INDIRECT_DEPTH);
+        let value = clamped(ctx, value, path.filter_weight, v.depth >= INDIRECT_DEPTH);
+        sums.pending[pixel] += value;
+        q.log.credit(path.record, value);
     }
     let Some(bsdf) = surface.bsdf.as_ref() else {
         return;
     };
     let frame = &surface.frame;
     let wo = frame.to_local(si.wo);
+    // The guide at this vertex (path tracer, `--guiding`, a wide lobe without delta lobes).
+    let guide = if transport.direct_only() {
+        None
+    } else {
+        ctx.guiding.at(si.p, bsdf, wo)
+    };
     if bsdf.flags().has_density() {
         let at = Shading {
             si,
@@ -395,6 +433,8 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
             pixel: path.pixel,
             filter_weight: path.filter_weight,
             indirect: v.depth + 1 >= INDIRECT_DEPTH,
+            guide,
+            record: path.record,
         };
         sample_light(ctx, &at, &mut path.stream, q);
     }
@@ -412,13 +452,37 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
     }
     let u_lobe = path.stream.next_1d();
     let u = path.stream.next_2d();
-    let Some(bs) = bsdf.sample(wo, u_lobe, u) else {
-        return;
+    let bs = match guide {
+        // One-sample MIS of BSDF and guide (`render::guided`).
+        Some(g) => {
+            let Some(gs) = super::guided::sample(g, bsdf, frame, wo, u_lobe, u) else {
+                return;
+            };
+            Continuation {
+                wi: gs.wi,
+                weight: gs.weight,
+                pdf: gs.pdf,
+                delta: false,
+                transmission: gs.transmission,
+            }
+        }
+        None => {
+            let Some(bs) = bsdf.sample(wo, u_lobe, u) else {
+                return;
+            };
+            Continuation {
+                wi: frame.to_world(bs.wi),
+                weight: bs.weight,
+                pdf: bs.pdf,
+                delta: bs.delta,
+                transmission: bs.transmission,
+            }
+        }
     };
     if transport.direct_only() && !bs.delta {
         return;
     }
-    let wi = frame.to_world(bs.wi);
+    let wi = bs.wi;
     // Reflections stay above the geometric surface, transmissions go below it.
     if (wi.dot(si.ng) <= 0.0) != bs.transmission {
         return;
@@ -442,6 +506,11 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         return;
     }
     let ray = spawn_ray(si.p, si.p_error, si.ng, wi);
+    let record = if path.trains && !bs.delta {
+        q.log.push(si.p, wi, bs.pdf, beta, path.record)
+    } else {
+        path.record
+    };
     q.next_rays.push(ray);
     q.next_paths.push(PathState {
         beta,
@@ -450,8 +519,21 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         origin: si.p,
         origin_normal: si.ns,
         medium,
+        record,
         ..*path
     });
+}
+
+/// A continuation drawn at a vertex: from the BSDF, or from the mixture of BSDF and guide.
+struct Continuation {
+    /// World direction.
+    wi: Vec3,
+    /// `f · |cos θi| / pdf` (a delta lobe: its weight).
+    weight: Vec3,
+    /// The density `wi` was drawn with (the mixture's where guided).
+    pdf: f32,
+    delta: bool,
+    transmission: bool,
 }
 
 /// Next-event estimation at a vertex: each split delta light, then one sample of each kind of
@@ -495,6 +577,11 @@ struct Shading<'s> {
     /// The sample's filter weight and whether its light is indirect (`--clamp-indirect`).
     filter_weight: f32,
     indirect: bool,
+    /// The guide mixed into this vertex's continuation: light samples weigh against the
+    /// mixture's density.
+    guide: Option<&'s Directional>,
+    /// The path's last logged vertex (training).
+    record: u32,
 }
 
 impl Shading<'_> {
@@ -502,6 +589,12 @@ impl Shading<'_> {
     #[inline(always)]
     fn clamped(&self, ctx: &TileContext<'_>, value: Vec3) -> Vec3 {
         clamped(ctx, value, self.filter_weight, self.indirect)
+    }
+
+    /// The density with which the continuation draws local direction `wl` (world `wi`).
+    #[inline(always)]
+    fn continuation_pdf(&self, wl: Vec3, wi: Vec3) -> f32 {
+        super::guided::mixture_pdf(self.guide, self.bsdf, self.wo, wl, wi)
     }
 
     /// Queues the shadow ray of one light sample with its contribution
@@ -552,7 +645,8 @@ impl Shading<'_> {
                     }
                     ShadowTarget::Infinity => spawn_ray(si.p, si.p_error, si.ng, wi),
                 };
-                q.shadows.push(ray, self.pixel, self.clamped(ctx, value));
+                q.shadows
+                    .push(ray, self.pixel, self.record, self.clamped(ctx, value));
             }
             LightSample::Area(ls) => {
                 if !reachable(si, ls.wi, self.transmits) {
@@ -564,11 +658,12 @@ impl Shading<'_> {
                 if le == Vec3::ZERO || f == Vec3::ZERO {
                     return;
                 }
-                let w = light_sample_weight(ctx, ls.pdf, bsdf.pdf(wo, wl));
+                let w = light_sample_weight(ctx, ls.pdf, self.continuation_pdf(wl, ls.wi));
                 let value = self.beta * f * le * (wl.z.abs() * w / ls.pdf);
                 if value.is_finite() {
                     let ray = spawn_ray_to(si.p, si.p_error, si.ng, ls.point);
-                    q.shadows.push(ray, self.pixel, self.clamped(ctx, value));
+                    q.shadows
+                        .push(ray, self.pixel, self.record, self.clamped(ctx, value));
                 }
             }
             LightSample::Environment(es) => {
@@ -580,11 +675,12 @@ impl Shading<'_> {
                 if f == Vec3::ZERO || es.radiance == Vec3::ZERO {
                     return;
                 }
-                let w = light_sample_weight(ctx, es.pdf, bsdf.pdf(wo, wl));
+                let w = light_sample_weight(ctx, es.pdf, self.continuation_pdf(wl, es.wi));
                 let value = self.beta * f * es.radiance * (wl.z.abs() * w / es.pdf);
                 if value.is_finite() {
                     let ray = spawn_ray(si.p, si.p_error, si.ng, es.wi);
-                    q.shadows.push(ray, self.pixel, self.clamped(ctx, value));
+                    q.shadows
+                        .push(ray, self.pixel, self.record, self.clamped(ctx, value));
                 }
             }
         }

@@ -123,6 +123,7 @@ pub fn render_progressive_with(
     }
     let max_spp = rule.max_spp.max(2);
     let mut renderer = TileScheduler::with_inputs(inputs, settings)?;
+    renderer.train_progressively();
     let mut passes = 0;
     // Two samples first: one in each half-buffer, the least the error estimate needs.
     let mut next = 2;

@@ -48,6 +48,40 @@ pub struct TileScheduler<'a> {
     ids_pending: bool,
     /// Adaptive sampling's per-pixel state, when it is on.
     adaptive: Option<super::adaptive::Adaptive>,
+    /// Path guiding's training, while it lasts.
+    training: Option<Training>,
+}
+
+/// Path guiding's training state ([`super::guided`]): the trainer, the sample totals at which
+/// the guide is relearned, and the records gathered since the last one.
+struct Training {
+    trainer: crate::guiding::Trainer,
+    /// Sample totals, ascending: once a pass ends at or past the first, the guide is learned
+    /// from the records since the previous one.
+    ends: Vec<u32>,
+    /// Per tile of each pass since the last learning, in tile order.
+    records: Vec<Vec<crate::guiding::Record>>,
+}
+
+impl Training {
+    /// Training over the bounds of `scene`, relearning at the totals of `passes`.
+    fn new(scene: &Scene, passes: &[u32]) -> Self {
+        let (lo, hi) = scene
+            .bounds()
+            .unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::splat(1.0)));
+        let ends: Vec<u32> = passes
+            .iter()
+            .scan(0u32, |total, &p| {
+                *total += p;
+                Some(*total)
+            })
+            .collect();
+        Self {
+            trainer: crate::guiding::Trainer::new(lo, hi),
+            ends,
+            records: Vec::new(),
+        }
+    }
 }
 
 /// The environment distribution a render's light samples come from: compensated (MIS
@@ -175,6 +209,7 @@ impl<'a> TileScheduler<'a> {
             differential_spacing: 1.0 / (settings.spp as f32).sqrt(),
             environment,
             visibility,
+            guiding: super::guided::Guiding::default(),
             transport: Transport {
                 integrator: settings.integrator,
                 max_depth: settings.max_depth,
@@ -205,6 +240,14 @@ impl<'a> TileScheduler<'a> {
             ids_pending: settings.aovs.instance_id
                 || settings.aovs.material_id
                 || settings.aovs.any_geometric(),
+            training: if settings.guiding && settings.integrator == super::Integrator::Path {
+                Some(Training::new(
+                    scene,
+                    &super::guided::training_passes(settings.spp),
+                ))
+            } else {
+                None
+            },
             adaptive: settings.adaptive.map(|threshold| {
                 super::adaptive::Adaptive::new(
                     settings.width,
@@ -255,6 +298,12 @@ impl<'a> TileScheduler<'a> {
         if self.cancelled() {
             return;
         }
+        let trains = self.training.as_ref().is_some_and(|t| !t.ends.is_empty());
+        self.ctx.guiding.record_stride = trains.then(|| {
+            let (w, h) = self.film.size();
+            let paths = u64::from(w) * u64::from(h) * u64::from(spp);
+            paths.div_ceil(super::guided::MAX_TRAINING_PATHS).max(1)
+        });
         let (ctx, tiles) = (&self.ctx, &self.tiles);
         let (cancel, trace_ids) = (self.cancel, self.ids_pending);
         let done = AtomicUsize::new(0);
@@ -265,11 +314,14 @@ impl<'a> TileScheduler<'a> {
                 .map_init(PathScratch::default, |scratch, tile| {
                     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                         // The render is abandoned: its film is never returned.
-                        return (TileSums::default(), RayCounts::default());
+                        return (TileSums::default(), RayCounts::default(), Vec::new());
                     }
-                    let mut result = super::path::render_tile(ctx, pass, tile, scratch);
+                    let mut records = Vec::new();
+                    let (sums, counts) =
+                        super::path::render_tile(ctx, pass, tile, scratch, &mut records);
+                    let mut result = (sums, counts, records);
                     if trace_ids {
-                        let (sums, counts) = &mut result;
+                        let (sums, counts, _) = &mut result;
                         ids::trace_centre_ids(ctx, ctx.aovs, tile, sums, counts);
                         if ctx.aovs.any_geometric() {
                             super::ground_truth::trace_centre_hits(ctx, tile, sums, counts);
@@ -285,9 +337,13 @@ impl<'a> TileScheduler<'a> {
         });
         // Tiles are merged in tile order on this thread: each pixel's sum is the same whatever
         // order the workers finished in.
-        for (tile, (sums, counts)) in self.tiles.iter().zip(&results) {
-            self.film.add_tile(tile, sums);
-            self.rays += *counts;
+        let mut records = Vec::new();
+        for (tile, (sums, counts, tile_records)) in self.tiles.iter().zip(results) {
+            self.film.add_tile(tile, &sums);
+            self.rays += counts;
+            if trains {
+                records.push(tile_records);
+            }
         }
         if let Some(adaptive) = &mut self.adaptive {
             adaptive.record_pass(spp);
@@ -295,6 +351,36 @@ impl<'a> TileScheduler<'a> {
         self.elapsed += start.elapsed();
         self.next_sample = self.next_sample.saturating_add(spp);
         self.ids_pending = false;
+        if let Some(training) = &mut self.training {
+            training.records.extend(records);
+            // Relearn once the pass reached the next total of the training schedule.
+            if training
+                .ends
+                .first()
+                .is_some_and(|&e| self.next_sample >= e)
+            {
+                let guide = training.trainer.learn(training.records.iter().flatten());
+                self.ctx.guiding.guide = Some(guide);
+                training.records.clear();
+                training.ends.retain(|&e| e > self.next_sample);
+            }
+            if training.ends.is_empty() {
+                self.training = None;
+                self.ctx.guiding.record_stride = None;
+            }
+        }
+    }
+
+    /// Path guiding in a progressive render: relearn the guide after 2, 4, 8 and
+    /// [`super::guided::PROGRESSIVE_TRAINING_SPP`] samples per pixel (whatever its passes),
+    /// then freeze it. Does nothing without guiding.
+    pub fn train_progressively(&mut self) {
+        if let Some(training) = &mut self.training {
+            training.ends = std::iter::successors(Some(2u32), |&n| Some(n * 2))
+                .take_while(|&n| n <= super::guided::PROGRESSIVE_TRAINING_SPP)
+                .collect();
+            training.records.clear();
+        }
     }
 
     /// Whether the caller has asked the render to stop ([`RenderInputs::cancel`]).

@@ -55,6 +55,8 @@ pub(crate) struct TileContext<'a> {
     pub lights: LightSampler<'a>,
     /// The environment seen by rays that escape (light-sampled or not).
     pub environment: Option<&'a EnvironmentLight>,
+    /// Path guiding (`--guiding`): the guide of this pass and whether it trains.
+    pub guiding: super::guided::Guiding,
     /// The integrator's settings.
     pub transport: Transport,
 }
@@ -206,6 +208,8 @@ pub(crate) fn trace_batch(
 pub(crate) struct ShadowQueue {
     rays: Vec<Ray>,
     values: Vec<(u32, Vec3)>,
+    /// Per ray, the last logged vertex of its path (`render::guided`, training only).
+    records: Vec<u32>,
     occluded: Vec<bool>,
 }
 
@@ -215,13 +219,27 @@ impl ShadowQueue {
     pub fn clear(&mut self) {
         self.rays.clear();
         self.values.clear();
+        self.records.clear();
     }
 
-    /// Queues `ray`, which adds `value` to `pixel` if nothing blocks it.
+    /// Queues `ray`, which adds `value` to `pixel` if nothing blocks it; `record` is its
+    /// path's last logged vertex for training the guide (`render::guided::NO_RECORD`: none).
     #[inline]
-    pub fn push(&mut self, ray: Ray, pixel: u32, value: Vec3) {
+    pub fn push(&mut self, ray: Ray, pixel: u32, record: u32, value: Vec3) {
         self.rays.push(ray);
         self.values.push((pixel, value));
+        self.records.push(record);
+    }
+
+    /// After [`ShadowQueue::trace`]: each unblocked ray's path record and value.
+    pub fn for_each_unblocked(&self, mut f: impl FnMut(u32, Vec3)) {
+        for ((&(_, value), &blocked), &record) in
+            self.values.iter().zip(&self.occluded).zip(&self.records)
+        {
+            if !blocked {
+                f(record, value);
+            }
+        }
     }
 
     /// Traces the queued rays (with the coherence and identity of the path batch they light)
