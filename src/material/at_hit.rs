@@ -7,7 +7,8 @@
 //! 2. the interpolated vertex normal (meshes with NORMAL);
 //! 3. the footprint of the ray's differential (texture filtering; camera rays only);
 //! 4. the base colour: factor × COLOR_0 × base colour texture × procedural texture;
-//! 5. the normal map (bent so that it reflects `ωo` above the surface) and its tangent frame;
+//! 5. the normal map and its tangent frame; the shading normal, mapped or interpolated, is
+//!    bent so that it reflects `ωo` above the geometric surface (`normal_map::keep_reflection_above`);
 //! 6. emission: factor × emissive texture (read only where the factor is not black), from a
 //!    front face or either face of a double-sided material (a single-sided material's back
 //!    face scatters like its front but emits nothing);
@@ -100,6 +101,12 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
             tangent
         })
     };
+    if mapped_tangent.is_none() && si.ns != si.ng {
+        // Interpolated vertex normals follow the normal map's rule too: near a silhouette of
+        // a smooth mesh they reflect `ωo` below the geometric surface, where every mirror
+        // reflection would be lost (Cycles bends them the same way).
+        si.ns = normal_map::keep_reflection_above(si.ns, si.ng, si.wo);
+    }
     let at = TexturePoint {
         mesh,
         si: &si,
