@@ -13,29 +13,23 @@
 //! A0(α) = 2 ∫ E0 μ dμ,  A1(α) = 2 ∫ E1 μ dμ                          (cosine averages)
 //! ```
 //!
-//! Each cell is integrated by quasi-Monte Carlo over visible normals: a reflected direction
-//! drawn from `Dv(wo, m)` has weight `f_ss cos θi / pdf = G2(wo, wi) / G1(wo)`, so
-//! `E0 ≈ (1/N) Σ G2/G1` and `E1 ≈ (1/N) Σ w(wo·m) G2/G1` over a 2-D Hammersley set (the
-//! integrand is smooth and bounded by 1, so the error is far below the 10⁻³ the tests ask).
-//! Rows are `μ = (i/(N_μ − 1))²`, columns perceptual roughness `r = √α` at `j/(N_r − 1)`
-//! (both squares pack nodes where the albedo changes fastest: near grazing, where rough GGX's
-//! albedo climbs back towards 1 as `G2/G1 → 1`, and at small α); lookups are bilinear in
-//! `(√μ, r)`. The averages are Simpson's rule in `x = √μ`: `2 ∫ g μ dμ = 4 ∫ g(x²) x³ dx`. Smooth surfaces (`α <` [`SMOOTH_ALPHA`]) use the delta
-//! limit exactly: `E0 = 1`, `E1 = w(μ)`, `A0 = 1`, `A1 = 2 ∫ (1 − μ)⁵ μ dμ = 1/21`.
+//! The table (`MU_NODES` rows of `μ = (i/(N_μ − 1))²`, `ROUGHNESS_NODES` columns of
+//! perceptual roughness `r = √α` at `j/(N_r − 1)`: both squares pack nodes where the albedo
+//! changes fastest, near grazing, where rough GGX's albedo climbs back towards 1 as
+//! `G2/G1 → 1`, and at small α) is integrated by [`albedo_quadrature`](super::albedo_quadrature)
+//! in the build script; lookups are bilinear in `(√μ, r)`. Smooth surfaces
+//! (`α <` [`SMOOTH_ALPHA`]) use the delta limit exactly: `E0 = 1`, `E1 = w(μ)`, `A0 = 1`,
+//! `A1 = 2 ∫ (1 − μ)⁵ μ dμ = 1/21`.
 //!
-//! The table is deterministic (same numbers on every run and thread) and built once per
-//! process, in about a tenth of a second.
+//! The table is deterministic (the same numbers on every build and thread count) and costs a
+//! render nothing: integrated at start-up it took about 0.2 CPU s of every process.
 
-use super::microfacet::{SMOOTH_ALPHA, TrowbridgeReitz, reflect};
-use glam::{Vec2, Vec3};
-use std::sync::OnceLock;
+use super::albedo_quadrature::schlick_weight;
+pub use super::albedo_quadrature::{MU_NODES, ROUGHNESS_NODES};
+use super::microfacet::SMOOTH_ALPHA;
+use glam::Vec3;
 
-/// Rows of the table: `μ = n·wo = (i/(MU_NODES − 1))²` (an odd count, for Simpson's rule).
-pub const MU_NODES: usize = 65;
-/// Columns of the table: perceptual roughness `r = √α` at `j/(ROUGHNESS_NODES − 1)`.
-pub const ROUGHNESS_NODES: usize = 64;
-/// Quasi-Monte Carlo points per cell (a power of two, so the Hammersley set is balanced).
-const SAMPLES_PER_CELL: u32 = 2048;
+include!(concat!(env!("OUT_DIR"), "/ggx_albedo_table.rs"));
 /// `2 ∫₀¹ (1 − μ)⁵ μ dμ = 2 · 1!·5!/7!`: the cosine average of Schlick's weight.
 const SCHLICK_WEIGHT_AVERAGE: f32 = 1.0 / 21.0;
 
@@ -58,104 +52,11 @@ pub struct GgxAlbedoAverage {
     pub a1: f32,
 }
 
-struct Table {
-    /// `(E0, E1)` at `[j * MU_NODES + i]` (roughness node `j`, μ cell `i`).
-    albedo: Vec<[f32; 2]>,
-    /// `(A0, A1)` per roughness node.
-    average: Vec<[f32; 2]>,
-}
-
-fn table() -> &'static Table {
-    static TABLE: OnceLock<Table> = OnceLock::new();
-    TABLE.get_or_init(build)
-}
-
-/// Van der Corput's radical inverse in base 2 of `i`.
-#[inline]
-fn radical_inverse_2(i: u32) -> f32 {
-    i.reverse_bits() as f32 * (1.0 / 4_294_967_296.0)
-}
-
-/// `√μ` of row `i`.
-#[inline]
-fn sqrt_mu_of_node(i: usize) -> f32 {
-    i as f32 / (MU_NODES - 1) as f32
-}
-
-/// `α` of column `j`.
-#[inline]
-fn alpha_of_node(j: usize) -> f32 {
-    let r = j as f32 / (ROUGHNESS_NODES - 1) as f32;
-    r * r
-}
-
-#[inline]
-fn schlick_weight(cos: f32) -> f32 {
-    let w = (1.0 - cos).clamp(0.0, 1.0);
-    let w2 = w * w;
-    w2 * w2 * w
-}
-
-/// `(E0, E1)` at `(μ, α)` by quasi-Monte Carlo over visible normals (the table's cells; also
-/// what a test compares with an independent quadrature).
+/// `(E0, E1)` at `(μ, α)` by quasi-Monte Carlo over visible normals, as the table's cells
+/// were integrated (for tests that compare the table with other integrals).
 pub fn integrate_albedo(mu: f32, alpha: f32) -> GgxAlbedo {
-    if alpha < SMOOTH_ALPHA {
-        return GgxAlbedo {
-            e0: 1.0,
-            e1: schlick_weight(mu),
-        };
-    }
-    let tr = TrowbridgeReitz::isotropic(alpha);
-    let mu = mu.clamp(1e-4, 1.0);
-    let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
-    let g1 = tr.g1(wo);
-    let (mut e0, mut e1) = (0.0f64, 0.0f64);
-    for k in 0..SAMPLES_PER_CELL {
-        let u = Vec2::new(
-            (k as f32 + 0.5) / SAMPLES_PER_CELL as f32,
-            radical_inverse_2(k),
-        );
-        let m = tr.sample_visible(wo, u);
-        let wi = reflect(wo, m);
-        if wi.z <= 0.0 || g1 <= 0.0 {
-            continue;
-        }
-        let weight = f64::from(tr.g2(wo, wi) / g1);
-        e0 += weight;
-        e1 += weight * f64::from(schlick_weight(wo.dot(m)));
-    }
-    let n = f64::from(SAMPLES_PER_CELL);
-    GgxAlbedo {
-        e0: (e0 / n) as f32,
-        e1: (e1 / n) as f32,
-    }
-}
-
-fn build() -> Table {
-    let mut albedo = Vec::with_capacity(MU_NODES * ROUGHNESS_NODES);
-    let mut average = Vec::with_capacity(ROUGHNESS_NODES);
-    for j in 0..ROUGHNESS_NODES {
-        let alpha = alpha_of_node(j);
-        let (mut a0, mut a1) = (0.0f64, 0.0f64);
-        for i in 0..MU_NODES {
-            let x = sqrt_mu_of_node(i);
-            let e = integrate_albedo(x * x, alpha);
-            albedo.push([e.e0, e.e1]);
-            // Simpson's rule for 4 ∫ g(x²) x³ dx on the rows' own nodes.
-            let simpson = match i {
-                0 => 1.0,
-                i if i == MU_NODES - 1 => 1.0,
-                i if i % 2 == 1 => 4.0,
-                _ => 2.0,
-            };
-            let h = 1.0 / (MU_NODES - 1) as f64;
-            let w = 4.0 * f64::from(x).powi(3) * simpson * h / 3.0;
-            a0 += w * f64::from(e.e0);
-            a1 += w * f64::from(e.e1);
-        }
-        average.push([a0 as f32, a1 as f32]);
-    }
-    Table { albedo, average }
+    let [e0, e1] = super::albedo_quadrature::integrate_albedo(mu, alpha);
+    GgxAlbedo { e0, e1 }
 }
 
 /// Column index and weight of the upper neighbour for `α`.
@@ -176,12 +77,11 @@ pub fn ggx_albedo(mu: f32, alpha: f32) -> GgxAlbedo {
             e1: schlick_weight(mu.abs()),
         };
     }
-    let t = table();
     let (j, tj) = roughness_position(alpha);
     let y = mu.abs().min(1.0).sqrt() * (MU_NODES - 1) as f32;
     let i = (y as usize).min(MU_NODES - 2);
     let ti = y - i as f32;
-    let at = |jj: usize, ii: usize| t.albedo[jj * MU_NODES + ii];
+    let at = |jj: usize, ii: usize| ALBEDO[jj * MU_NODES + ii];
     let lerp2 =
         |a: [f32; 2], b: [f32; 2], s: f32| [a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s];
     let lo = lerp2(at(j, i), at(j, i + 1), ti);
@@ -200,9 +100,8 @@ pub fn ggx_albedo_average(alpha: f32) -> GgxAlbedoAverage {
             a1: SCHLICK_WEIGHT_AVERAGE,
         };
     }
-    let t = table();
     let (j, tj) = roughness_position(alpha);
-    let (a, b) = (t.average[j], t.average[j + 1]);
+    let (a, b) = (AVERAGE[j], AVERAGE[j + 1]);
     let l = |k: usize| a[k] + (b[k] - a[k]) * tj;
     GgxAlbedoAverage { a0: l(0), a1: l(1) }
 }
@@ -263,7 +162,30 @@ const MIN_ALBEDO: f32 = 1e-2;
 
 #[cfg(test)]
 mod tests {
+    use super::super::microfacet::{TrowbridgeReitz, reflect};
     use super::*;
+
+    /// The build script's table is the crate's own quadrature, cell for cell (the same code
+    /// compiled twice; a few columns, since each costs a few milliseconds), and its averages
+    /// are that quadrature's Simpson sums.
+    #[test]
+    fn built_table_is_the_quadrature() {
+        for j in [1, 9, 31, 50, ROUGHNESS_NODES - 1] {
+            let (column, average) = super::super::albedo_quadrature::column(j);
+            for (i, e) in column.iter().enumerate() {
+                let built = ALBEDO[j * MU_NODES + i];
+                assert!(
+                    (built[0] - e[0]).abs() <= 1e-6 && (built[1] - e[1]).abs() <= 1e-6,
+                    "column {j}, row {i}: built {built:?}, quadrature {e:?}"
+                );
+            }
+            let built = AVERAGE[j];
+            assert!(
+                (built[0] - average[0]).abs() <= 1e-6 && (built[1] - average[1]).abs() <= 1e-6,
+                "column {j}: built {built:?}, quadrature {average:?}"
+            );
+        }
+    }
 
     /// `∫ g(wo, m) dωm` over the upper hemisphere of microfacet normals by the midpoint rule
     /// in (v, φ), θ = atan(a tan v), which packs cells where GGX of roughness a has its mass.

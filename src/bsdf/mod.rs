@@ -10,6 +10,7 @@
 //!
 //! One BSDF per file, each with its formula in its doc block.
 
+pub mod albedo_quadrature;
 pub mod clearcoat;
 pub mod dielectric;
 pub mod energy;
