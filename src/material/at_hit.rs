@@ -7,8 +7,11 @@
 //! 2. the interpolated vertex normal (meshes with NORMAL);
 //! 3. the footprint of the ray's differential (texture filtering; camera rays only);
 //! 4. the base colour: factor × COLOR_0 × base colour texture × procedural texture;
-//! 5. the normal map (bent so that it reflects `ωo` above the surface) and its tangent frame;
-//! 6. emission: factor × emissive texture (read only where the factor is not black);
+//! 5. the normal map and its tangent frame; the shading normal, mapped or interpolated, is
+//!    bent so that it reflects `ωo` above the geometric surface (`normal_map::keep_reflection_above`);
+//! 6. emission: factor × emissive texture (read only where the factor is not black), from a
+//!    front face or either face of a double-sided material (a single-sided material's back
+//!    face scatters like its front but emits nothing);
 //! 7. metallic and roughness: factors × metallic-roughness texture;
 //! 8. the KHR_materials layers (their textures at the hit, the coat's own normal map);
 //! 9. the BSDF: glTF's metallic-roughness BRDF, or the layered BSDF over it.
@@ -55,17 +58,18 @@ pub struct SurfaceAtHit {
     pub si: SurfaceInteraction,
     /// The BSDF's frame: `si.ns` and the normal map's tangent (an arbitrary one without).
     pub frame: Frame,
-    /// Whether this side of the surface reflects, emits and is lit: a front face, a
-    /// double-sided material, or a material that transmits (glass is met from inside).
-    pub lit: bool,
+    /// Whether this side emits (the emissive, or an unlit material's base colour): a front
+    /// face or a double-sided material, the sides the light sampler samples. Every side
+    /// scatters: a back face of a single-sided material (met only by bounce and shadow rays,
+    /// camera rays cull it) reflects and transmits as its front does, seen from its own side.
+    pub emits: bool,
     /// KHR_materials_unlit: `albedo` leaves the surface as radiance and nothing scatters.
     pub unlit: bool,
     /// Base colour ρ at the hit (factor × vertex colour × textures), linear RGB.
     pub albedo: Vec3,
-    /// Emitted radiance `Le` toward `si.wo` (W/(m²·sr)); zero on an unlit side.
+    /// Emitted radiance `Le` toward `si.wo` (W/(m²·sr)); zero on a side that does not emit.
     pub emission: Vec3,
-    /// The BSDF in `frame`; `None` on an unlit side, for unlit materials, or when the query
-    /// did not ask for it.
+    /// The BSDF in `frame`; `None` for unlit materials, or when the query did not ask for it.
     pub bsdf: Option<SurfaceBsdf>,
 }
 
@@ -78,7 +82,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
     if let Some(normals) = &mesh.normals {
         si.ns = shading_normal(&si, normals);
     }
-    let lit = si.front_face || material.double_sided || material.may_transmit();
+    let emits = si.front_face || material.double_sided;
     let footprint = q
         .differential
         .filter(|_| material.textured())
@@ -97,6 +101,12 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
             tangent
         })
     };
+    if mapped_tangent.is_none() && si.ns != si.ng {
+        // Interpolated vertex normals follow the normal map's rule too: near a silhouette of
+        // a smooth mesh they reflect `ωo` below the geometric surface, where every mirror
+        // reflection would be lost (Cycles bends them the same way).
+        si.ns = normal_map::keep_reflection_above(si.ns, si.ng, si.wo);
+    }
     let at = TexturePoint {
         mesh,
         si: &si,
@@ -111,7 +121,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
     if let Some(t) = &material.base_color_texture {
         albedo *= textures.value(&at, t).truncate();
     }
-    if lit
+    if emits
         && emission != Vec3::ZERO
         && let Some(t) = &material.emissive_texture
     {
@@ -120,7 +130,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
     if let Some(procedural) = &material.procedural {
         albedo *= textures.procedural(&at, procedural);
     }
-    if !lit || material.unlit {
+    if !emits || material.unlit {
         // Unlit materials ignore their emissive factor: their ρ is what leaves them.
         emission = Vec3::ZERO;
     }
@@ -128,7 +138,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
         Some(t) => Frame::from_normal_tangent(si.ns, t),
         None => Frame::from_normal(si.ns),
     };
-    let bsdf = (q.scatters && lit && !material.unlit).then(|| {
+    let bsdf = (q.scatters && !material.unlit).then(|| {
         let metallic_roughness = metallic_roughness(textures, &at, material);
         let layers = match &material.layers {
             Some(l) if l.has_textures() => {
@@ -149,7 +159,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
     Some(SurfaceAtHit {
         si,
         frame,
-        lit,
+        emits,
         unlit: material.unlit,
         albedo,
         emission,

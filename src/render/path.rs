@@ -381,20 +381,19 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
             sums,
             pixel,
             path.filter_weight,
-            surface.lit,
             surface.albedo,
             si.ns,
             hit.t,
         );
     }
-    if !surface.lit {
-        return;
-    }
     if surface.unlit {
-        // KHR_materials_unlit: ρ leaves the surface as radiance and nothing scatters. Light
-        // sampling never picks unlit surfaces, so BSDF sampling finds them with weight 1.
-        sums.pending[pixel] += path.beta * surface.albedo;
-        q.log.credit(path.record, path.beta * surface.albedo);
+        // KHR_materials_unlit: ρ leaves the surface as radiance (from the sides that emit)
+        // and nothing scatters. Light sampling never picks unlit surfaces, so BSDF sampling
+        // finds them with weight 1.
+        if surface.emits {
+            sums.pending[pixel] += path.beta * surface.albedo;
+            q.log.credit(path.record, path.beta * surface.albedo);
+        }
         return;
     }
     if surface.emission != Vec3::ZERO {

@@ -14,14 +14,17 @@
 //! - **Culling.** Camera rays skip back faces of single-sided materials (glTF: "back-face
 //!   culling is enabled, i.e., only front-facing triangles are rendered"), so the camera
 //!   sees what lies behind them. Bounce and shadow rays do not: a back face stops them and
-//!   absorbs (it neither reflects nor emits). Culling them too would make visibility depend
-//!   on the direction a ray is traced: the surface would block light crossing it one way and
-//!   pass it the other, so V(x, y) ≠ V(y, x), and light sampling (rays from the shading
-//!   point to the light) and any estimator tracing the other way would disagree. Keeping it
-//!   opaque is reciprocal, costs shadow rays nothing, and is what Blender Cycles (whose
-//!   goldens glint is compared with) does for every ray. The visible consequence: a culled
-//!   surface still casts its shadow (TextureSettingsTest's single-sided cell shows the check
-//!   behind the culled quad in that quad's shadow).
+//!   is shaded as the side it was hit from (its BSDF with the normals turned toward the ray,
+//!   as for a double-sided material; it emits nothing, see `material::at_hit`). Culling them
+//!   too would make visibility depend on the direction a ray is traced: the surface would
+//!   block light crossing it one way and pass it the other, so V(x, y) ≠ V(y, x), and light
+//!   sampling (rays from the shading point to the light) and any estimator tracing the other
+//!   way would disagree. Keeping it opaque is reciprocal and costs shadow rays nothing;
+//!   shading it (rather than absorbing) keeps an open single-sided mesh energy-conserving in
+//!   a white furnace, and is what Blender Cycles, pbrt and Mitsuba do with a back face they
+//!   hit. The visible consequence: a culled surface still casts its shadow
+//!   (TextureSettingsTest's single-sided cell shows the check behind the culled quad in that
+//!   quad's shadow).
 //!
 //! **Continuing past a rejected hit.** The same ray is traced again with `tnear` moved past
 //! the rejected hit: origin and direction are unchanged, so the interval still ends where it

@@ -273,20 +273,19 @@ impl ShadowQueue {
 }
 
 /// Adds a camera ray's first hit to the AOV sums it has (weighted by the sample's filter
-/// weight `w`): albedo (0 on unlit back faces), shading normal, and distance (camera ray
-/// directions are unit, so `t` is the distance).
+/// weight `w`): albedo, shading normal, and distance (camera ray directions are unit, so `t`
+/// is the distance).
 #[inline]
 pub(crate) fn record_first_hit(
     sums: &mut TileSums,
     pixel: usize,
     w: f32,
-    lit: bool,
     albedo: Vec3,
     ns: Vec3,
     t: f32,
 ) {
     if let Some(a) = sums.albedo.get_mut(pixel) {
-        *a += if lit { w * albedo } else { Vec3::ZERO };
+        *a += w * albedo;
     }
     if let Some(n) = sums.normal.get_mut(pixel) {
         *n += w * ns;
