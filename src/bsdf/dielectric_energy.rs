@@ -24,8 +24,8 @@
 //! Two tables, entering (`η ≥ 1`) and leaving (`1/η`), each over `(√μ, r = √α, s)` with
 //! `s = (η − 1)/(η + 1)` (`√f0` of the interface at normal incidence): [`MU_NODES`] ×
 //! [`ROUGHNESS_NODES`] × [`ETA_NODES`], `s` from 0 (η = 1) to [`S_MAX`] (η = 3; larger indices
-//! read the last slice), trilinear lookups. Each η slice (4·10⁶ visible normals, a few tenths
-//! of a CPU second, its roughness rows in parallel) is built once per process on its first
+//! read the last slice), trilinear lookups. Each η slice (1.7·10⁷ visible normals, about 0.6 CPU
+//! seconds, its roughness rows in parallel) is built once per process on its first
 //! lookup, so a scene's glass of one index builds two slices per side; deterministic. (A grid
 //! half as fine in each axis was 2.8·10⁻³ off the quadrature where the albedo bends: across
 //! the critical angle's sweep in η, at grazing μ for low roughness.) Smooth interfaces (`α <`
