@@ -22,7 +22,7 @@ use glint::render::{
 };
 use glint::scene::layers::{Clearcoat, Sheen, Transmission, Volume};
 use glint::scene::{Material, Mesh};
-use render_support::{look_at, ortho, quad, scene};
+use render_support::{Furnace, look_at, ortho, quad, scene, white_furnace};
 
 /// Image side in pixels; the sphere's disc spans `SIZE · RADIUS_IN_VIEW` of it.
 const SIZE: u32 = 48;
@@ -178,25 +178,14 @@ fn furnace_image(
 ) -> Image<Vec3> {
     let scene = scene(vec![sphere(0)], vec![material], vec![]);
     let camera = ortho(Vec3::new(0.0, -4.0, 0.3), Vec3::ZERO, Vec3::Z, VIEW, VIEW);
-    let env = EnvironmentLight::constant(Vec3::ONE);
-    let accel = render::prepare(&scene, backend, BuildOptions::default()).expect("build");
-    let mut inputs = RenderInputs::of_scene(&scene, accel.as_ref(), &camera);
-    inputs.environment = Some(&env);
-    let settings = RenderSettings {
-        width: SIZE,
-        height: SIZE,
+    let furnace = Furnace {
+        size: SIZE,
         spp,
         seed: 7,
-        threads: 2,
         max_depth,
-        sampling: PixelSampling::Sobol,
-        integrator: Integrator::Path,
-        russian_roulette: true,
         brdf,
-        ..RenderSettings::default()
     };
-    let (film, _) = render::render_film(&inputs, &settings, 0..spp, None).expect("render");
-    film.resolve().0
+    white_furnace(&scene, &camera, backend, &furnace)
 }
 
 #[test]
@@ -451,25 +440,14 @@ fn non_convex_worst_block(
         Vec3::Z,
         0.8,
     );
-    let env = EnvironmentLight::constant(Vec3::ONE);
-    let accel = render::prepare(&scene, backend, BuildOptions::default()).expect("build");
-    let mut inputs = RenderInputs::of_scene(&scene, accel.as_ref(), &camera);
-    inputs.environment = Some(&env);
-    let settings = RenderSettings {
-        width: size,
-        height: size,
+    let furnace = Furnace {
+        size,
         spp,
         seed: 11,
-        threads: 2,
         max_depth: 32,
-        sampling: PixelSampling::Sobol,
-        integrator: Integrator::Path,
-        russian_roulette: true,
         brdf: BrdfModel::Compensated,
-        ..RenderSettings::default()
     };
-    let (film, _) = render::render_film(&inputs, &settings, 0..spp, None).expect("render");
-    let (image, _) = film.resolve();
+    let image = white_furnace(&scene, &camera, backend, &furnace);
     let mut worst = 0.0f64;
     for by in 0..size / 8 {
         for bx in 0..size / 8 {

@@ -25,7 +25,7 @@ use glint::accel::{BackendKind, BuildOptions};
 use glint::light::environment::EnvironmentLight;
 use glint::render::{self, BrdfModel, Integrator, PixelSampling, RenderInputs, RenderSettings};
 use glint::scene::{Material, Mesh};
-use render_support::{ortho, quad, scene};
+use render_support::{Furnace, ortho, quad, scene, white_furnace};
 
 /// Image side in pixels; the view spans the floor exactly.
 const SIZE: u32 = 48;
@@ -50,25 +50,14 @@ fn well() -> Vec<Mesh> {
 fn floor_mean(material: Material, backend: BackendKind, spp: u32) -> (f64, f64) {
     let scene = scene(well(), vec![material], vec![]);
     let camera = ortho(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
-    let env = EnvironmentLight::constant(Vec3::ONE);
-    let accel = render::prepare(&scene, backend, BuildOptions::default()).expect("build");
-    let mut inputs = RenderInputs::of_scene(&scene, accel.as_ref(), &camera);
-    inputs.environment = Some(&env);
-    let settings = RenderSettings {
-        width: SIZE,
-        height: SIZE,
+    let furnace = Furnace {
+        size: SIZE,
         spp,
         seed: 5,
-        threads: 2,
         max_depth: 32,
-        sampling: PixelSampling::Sobol,
-        integrator: Integrator::Path,
-        russian_roulette: true,
         brdf: BrdfModel::Compensated,
-        ..RenderSettings::default()
     };
-    let (film, _) = render::render_film(&inputs, &settings, 0..spp, None).expect("render");
-    let (image, _) = film.resolve();
+    let image = white_furnace(&scene, &camera, backend, &furnace);
     let mut values = Vec::new();
     for py in 0..SIZE {
         for px in 0..SIZE {

@@ -21,9 +21,9 @@ pub const ROUGHNESS_NODES: usize = 64;
 /// Quasi-Monte Carlo points per cell (a power of two, so the Hammersley set is balanced).
 const SAMPLES_PER_CELL: u32 = 2048;
 
-/// Van der Corput's radical inverse in base 2 of `i`.
+/// Van der Corput's radical inverse in base 2 of `i` (the Hammersley sets' second axis).
 #[inline]
-fn radical_inverse_2(i: u32) -> f32 {
+pub fn radical_inverse_2(i: u32) -> f32 {
     i.reverse_bits() as f32 * (1.0 / 4_294_967_296.0)
 }
 

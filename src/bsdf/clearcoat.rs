@@ -35,7 +35,7 @@
 //! [`BrdfModel::Spec`]: the formulas above, single scattering.
 
 use super::compensated_sampling;
-use super::energy::ggx_albedo;
+use super::energy::{ggx_albedo, white_lobe_scale};
 use super::microfacet::{TrowbridgeReitz, reflect};
 use super::{BrdfModel, Bsdf, BsdfFlags, BsdfSample, Frame};
 use glam::{Vec2, Vec3};
@@ -52,9 +52,6 @@ pub struct ClearcoatBsdf {
     /// Single scattering exactly ([`BrdfModel::Spec`]) or energy-compensated.
     pub model: BrdfModel,
 }
-
-/// A floor on `E0` before dividing by it (the table's smallest value is about 0.3).
-const MIN_ALBEDO: f32 = 1e-2;
 
 /// The coat's Fresnel reflectance at normal incidence (index 1.5 against air).
 pub const COAT_F0: f32 = 0.04;
@@ -87,9 +84,7 @@ impl ClearcoatBsdf {
             BrdfModel::Spec => 1.0,
             BrdfModel::Compensated => {
                 let a = &self.distribution;
-                1.0 / ggx_albedo(cos_o, (a.alpha_x * a.alpha_y).sqrt())
-                    .e0
-                    .max(MIN_ALBEDO)
+                white_lobe_scale(ggx_albedo(cos_o, (a.alpha_x * a.alpha_y).sqrt()).e0)
             }
         }
     }

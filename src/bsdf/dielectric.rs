@@ -56,7 +56,7 @@
 //! the compensated BSDF. Smooth interfaces are unchanged (`E = 1`).
 
 use super::dielectric_energy::dielectric_albedo;
-use super::energy::ggx_albedo;
+use super::energy::{ggx_albedo, white_lobe_scale};
 use super::microfacet::{TrowbridgeReitz, reflect};
 use super::{BrdfModel, Bsdf, BsdfFlags, BsdfSample};
 use glam::{Vec2, Vec3};
@@ -116,10 +116,6 @@ pub fn refract(w: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     Some((-w / eta + n * (cos_i / eta - cos_t)).normalize_or_zero()).filter(|v| *v != Vec3::ZERO)
 }
 
-/// A floor on the tabulated albedo before dividing by it (the smallest tabulated value, rough
-/// glass seen at grazing angles, is far above it; this guards a corrupted lookup only).
-const MIN_ALBEDO: f32 = 1e-2;
-
 #[inline]
 fn mean(v: Vec3) -> f32 {
     (v.x + v.y + v.z) * (1.0 / 3.0)
@@ -162,7 +158,7 @@ impl DielectricBsdf {
                 } else {
                     dielectric_albedo(wo.z.abs(), alpha, self.eta_across(wo))
                 };
-                1.0 / e.max(MIN_ALBEDO)
+                white_lobe_scale(e)
             }
         }
     }

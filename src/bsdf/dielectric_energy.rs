@@ -36,16 +36,14 @@
 //! of the GGX reflection table ([`super::energy::ggx_albedo`]) whatever `η`: it needs no table
 //! of its own.
 
+pub use super::albedo_quadrature::{MU_NODES, ROUGHNESS_NODES};
+use super::albedo_quadrature::{alpha_of_node, radical_inverse_2, sqrt_mu_of_node};
 use super::dielectric::{fresnel_dielectric, refract};
 use super::microfacet::{SMOOTH_ALPHA, TrowbridgeReitz, reflect};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::OnceLock;
 
-/// Rows: `μ = (i/(MU_NODES − 1))²`.
-pub const MU_NODES: usize = 65;
-/// Columns: perceptual roughness `r = √α = j/(ROUGHNESS_NODES − 1)`.
-pub const ROUGHNESS_NODES: usize = 64;
 /// Slices: `s = (η − 1)/(η + 1) = S_MAX · k/(ETA_NODES − 1)`.
 pub const ETA_NODES: usize = 33;
 /// The largest tabulated `s`: η = 3 (glTF's KHR_materials_ior lists 1–2.42 for common
@@ -62,12 +60,6 @@ type Slice = Vec<f32>;
 fn slice(leaving: bool, k: usize) -> &'static Slice {
     static SLICES: [OnceLock<Slice>; 2 * ETA_NODES] = [const { OnceLock::new() }; 2 * ETA_NODES];
     SLICES[usize::from(leaving) * ETA_NODES + k].get_or_init(|| build_slice(leaving, k))
-}
-
-/// Van der Corput's radical inverse in base 2 of `i`.
-#[inline]
-fn radical_inverse_2(i: u32) -> f32 {
-    i.reverse_bits() as f32 * (1.0 / 4_294_967_296.0)
 }
 
 /// `η ≥ 1` of slice `k`.
@@ -120,10 +112,10 @@ fn build_slice(leaving: bool, k: usize) -> Slice {
     (0..ROUGHNESS_NODES)
         .into_par_iter()
         .flat_map_iter(|j| {
-            let r = j as f32 / (ROUGHNESS_NODES - 1) as f32;
+            let alpha = alpha_of_node(j);
             (0..MU_NODES).map(move |i| {
-                let x = i as f32 / (MU_NODES - 1) as f32;
-                integrate_dielectric_albedo(x * x, r * r, eta)
+                let x = sqrt_mu_of_node(i);
+                integrate_dielectric_albedo(x * x, alpha, eta)
             })
         })
         .collect()
@@ -158,7 +150,8 @@ pub fn dielectric_albedo(mu: f32, alpha: f32, eta: f32) -> f32 {
     let (i, ti) = position(mu.abs().min(1.0).sqrt() * (MU_NODES - 1) as f32, MU_NODES);
     let lerp = |a: f32, b: f32, w: f32| a + (b - a) * w;
     let bilinear = |k: usize| {
-        let at = |j: usize, i: usize| slice(leaving, k)[j * MU_NODES + i];
+        let cells = slice(leaving, k);
+        let at = |j: usize, i: usize| cells[j * MU_NODES + i];
         lerp(
             lerp(at(j, i), at(j, i + 1), ti),
             lerp(at(j + 1, i), at(j + 1, i + 1), ti),
@@ -174,34 +167,8 @@ pub fn dielectric_albedo(mu: f32, alpha: f32, eta: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::microfacet::integrate_over_normals;
     use super::*;
-
-    /// `∫ g(m) dωm` over the upper hemisphere of microfacet normals by the midpoint rule in
-    /// (v, φ), θ = atan(a tan v) (cells packed where GGX of roughness a has its mass).
-    fn integrate_normals(a: f64, g: impl Fn(Vec3) -> f64) -> f64 {
-        let (nv, nphi) = (1200, 256);
-        let (dv, dphi) = (
-            std::f64::consts::FRAC_PI_2 / nv as f64,
-            std::f64::consts::TAU / nphi as f64,
-        );
-        let mut sum = 0.0;
-        for i in 0..nv {
-            let v = (i as f64 + 0.5) * dv;
-            let t = v.tan();
-            let theta = (a * t).atan();
-            let dtheta_dv = a * (1.0 + t * t) / (1.0 + a * a * t * t);
-            for j in 0..nphi {
-                let phi = (j as f64 + 0.5) * dphi;
-                let m = Vec3::new(
-                    (theta.sin() * phi.cos()) as f32,
-                    (theta.sin() * phi.sin()) as f32,
-                    theta.cos() as f32,
-                );
-                sum += g(m) * theta.sin() * dtheta_dv * dv * dphi;
-            }
-        }
-        sum
-    }
 
     /// The interpolated tables at points between their nodes (roughness, μ and η all off the
     /// grid) agree with an independent quadrature over microfacet normals of
@@ -219,22 +186,23 @@ mod tests {
                     let tr = TrowbridgeReitz::isotropic(alpha);
                     for &mu in &[0.06f32, 0.3, 0.62, 0.97] {
                         let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-                        let quadrature = integrate_normals(f64::from(alpha), |m| {
-                            let om = wo.dot(m);
-                            if om <= 0.0 {
-                                return 0.0;
-                            }
-                            let f = fresnel_dielectric(om, eta);
-                            let wr = reflect(wo, m);
-                            let mut g = 0.0;
-                            if wr.z > 0.0 {
-                                g += f * tr.g2(wo, wr);
-                            }
-                            if let Some(wt) = refract(wo, m, eta).filter(|w| w.z < 0.0) {
-                                g += (1.0 - f) * tr.g2(wo, wt);
-                            }
-                            f64::from(tr.d(m) * om / mu * g)
-                        });
+                        let quadrature =
+                            integrate_over_normals(f64::from(alpha), (1200, 256), |m| {
+                                let om = wo.dot(m);
+                                if om <= 0.0 {
+                                    return 0.0;
+                                }
+                                let f = fresnel_dielectric(om, eta);
+                                let wr = reflect(wo, m);
+                                let mut g = 0.0;
+                                if wr.z > 0.0 {
+                                    g += f * tr.g2(wo, wr);
+                                }
+                                if let Some(wt) = refract(wo, m, eta).filter(|w| w.z < 0.0) {
+                                    g += (1.0 - f) * tr.g2(wo, wt);
+                                }
+                                f64::from(tr.d(m) * om / mu * g)
+                            });
                         let table = f64::from(dielectric_albedo(mu, alpha, eta));
                         let e = (table - quadrature).abs();
                         worst = worst.max(e);

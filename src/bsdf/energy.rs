@@ -160,8 +160,17 @@ pub fn schlick_fresnel_average(f0: Vec3, f90: Vec3) -> Vec3 {
 /// about 0.3, so this only guards against a corrupted lookup.
 const MIN_ALBEDO: f32 = 1e-2;
 
+/// Turquin's factor `1/E` for a white lobe whose single-scatter albedo is `e` (the clear
+/// coat's `E0`, a rough dielectric's `R + T`): the compensated lobe then reflects (and
+/// transmits) all the power it receives. `e` is floored like `E0` above.
+#[inline]
+pub fn white_lobe_scale(e: f32) -> f32 {
+    1.0 / e.max(MIN_ALBEDO)
+}
+
 #[cfg(test)]
 mod tests {
+    use super::super::microfacet::integrate_over_normals;
     use super::super::microfacet::{TrowbridgeReitz, reflect};
     use super::*;
 
@@ -187,33 +196,6 @@ mod tests {
         }
     }
 
-    /// `∫ g(wo, m) dωm` over the upper hemisphere of microfacet normals by the midpoint rule
-    /// in (v, φ), θ = atan(a tan v), which packs cells where GGX of roughness a has its mass.
-    fn integrate_normals(a: f64, g: impl Fn(Vec3) -> f64) -> f64 {
-        let (nv, nphi) = (1200, 256);
-        let (dv, dphi) = (
-            std::f64::consts::FRAC_PI_2 / nv as f64,
-            std::f64::consts::TAU / nphi as f64,
-        );
-        let mut sum = 0.0;
-        for i in 0..nv {
-            let v = (i as f64 + 0.5) * dv;
-            let t = v.tan();
-            let theta = (a * t).atan();
-            let dtheta_dv = a * (1.0 + t * t) / (1.0 + a * a * t * t);
-            for j in 0..nphi {
-                let phi = (j as f64 + 0.5) * dphi;
-                let m = Vec3::new(
-                    (theta.sin() * phi.cos()) as f32,
-                    (theta.sin() * phi.sin()) as f32,
-                    theta.cos() as f32,
-                );
-                sum += g(m) * theta.sin() * dtheta_dv * dv * dphi;
-            }
-        }
-        sum
-    }
-
     /// The tabulated (interpolated) albedos at points between the table's nodes agree with an
     /// independent quadrature of `D G2 F (wo·m)/μo` over microfacet normals (the
     /// single-scatter BSDF times cos θi, moved to the half-vector domain by the Jacobian
@@ -234,8 +216,8 @@ mod tests {
                     let f = if schlick { schlick_weight(om) } else { 1.0 };
                     f64::from(tr.d(m) * tr.g2(wo, wi) * f * om / mu)
                 };
-                let e0 = integrate_normals(f64::from(alpha), |m| lobe(m, false));
-                let e1 = integrate_normals(f64::from(alpha), |m| lobe(m, true));
+                let e0 = integrate_over_normals(f64::from(alpha), (1200, 256), |m| lobe(m, false));
+                let e1 = integrate_over_normals(f64::from(alpha), (1200, 256), |m| lobe(m, true));
                 let t = ggx_albedo(mu, alpha);
                 assert!(
                     (f64::from(t.e0) - e0).abs() < 1e-3 && (f64::from(t.e1) - e1).abs() < 1e-3,

@@ -200,6 +200,39 @@ pub fn schlick(f0: Vec3, f90: Vec3, cos: f32) -> Vec3 {
     f0 + (f90 - f0) * (w2 * w2 * w)
 }
 
+/// `∫ g(m) dωm` over the upper hemisphere of microfacet normals by the midpoint rule on
+/// `nv × nphi` cells in `(v, φ)`, `θ = atan(a tan v)`: the substitution packs cells where GGX
+/// of roughness `a` has its mass. The tests' independent quadrature (of the distribution, and
+/// of the albedo tables in `energy` and `dielectric_energy`).
+#[cfg(test)]
+pub(crate) fn integrate_over_normals(
+    a: f64,
+    (nv, nphi): (usize, usize),
+    g: impl Fn(Vec3) -> f64,
+) -> f64 {
+    let (dv, dphi) = (
+        std::f64::consts::FRAC_PI_2 / nv as f64,
+        std::f64::consts::TAU / nphi as f64,
+    );
+    let mut sum = 0.0;
+    for i in 0..nv {
+        let v = (i as f64 + 0.5) * dv;
+        let t = v.tan();
+        let theta = (a * t).atan();
+        let dtheta_dv = a * (1.0 + t * t) / (1.0 + a * a * t * t);
+        for j in 0..nphi {
+            let phi = (j as f64 + 0.5) * dphi;
+            let m = Vec3::new(
+                (theta.sin() * phi.cos()) as f32,
+                (theta.sin() * phi.sin()) as f32,
+                theta.cos() as f32,
+            );
+            sum += g(m) * theta.sin() * dtheta_dv * dv * dphi;
+        }
+    }
+    sum
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -210,28 +243,6 @@ mod tests {
             (theta.sin() * phi.sin()) as f32,
             theta.cos() as f32,
         )
-    }
-
-    /// ∫ g(m) dm over the upper hemisphere by the midpoint rule in (v, φ), θ = atan(a tan v):
-    /// the substitution packs cells where GGX of roughness ~a has its mass.
-    fn integrate_hemisphere(a: f64, g: impl Fn(Vec3) -> f64) -> f64 {
-        let (nv, nphi) = (1500, 192);
-        let (dv, dphi) = (
-            std::f64::consts::FRAC_PI_2 / nv as f64,
-            std::f64::consts::TAU / nphi as f64,
-        );
-        let mut sum = 0.0;
-        for i in 0..nv {
-            let v = (i as f64 + 0.5) * dv;
-            let t = v.tan();
-            let theta = (a * t).atan();
-            let dtheta_dv = a * (1.0 + t * t) / (1.0 + a * a * t * t);
-            for j in 0..nphi {
-                let phi = (j as f64 + 0.5) * dphi;
-                sum += g(dir(theta, phi)) * theta.sin() * dtheta_dv * dv * dphi;
-            }
-        }
-        sum
     }
 
     #[test]
@@ -245,7 +256,7 @@ mod tests {
         ] {
             let tr = TrowbridgeReitz::new(ax, ay);
             let a = (ax as f64 * ay as f64).sqrt();
-            let i = integrate_hemisphere(a, |m| tr.d(m) as f64 * m.z as f64);
+            let i = integrate_over_normals(a, (1500, 192), |m| tr.d(m) as f64 * m.z as f64);
             assert!((i - 1.0).abs() < 2e-3, "α = ({ax}, {ay}): ∫ D cos = {i}");
         }
     }
@@ -258,7 +269,7 @@ mod tests {
             let a = (ax as f64 * ay as f64).sqrt();
             for &(theta, phi) in &[(0.0, 0.0), (0.7, 0.3), (1.3, 2.0), (1.52, 4.0)] {
                 let w = dir(theta, phi);
-                let i = integrate_hemisphere(a, |m| tr.visible_d(w, m) as f64);
+                let i = integrate_over_normals(a, (1500, 192), |m| tr.visible_d(w, m) as f64);
                 assert!(
                     (i - 1.0).abs() < 3e-3,
                     "α = ({ax}, {ay}), θ = {theta}: ∫ Dv = {i}"

@@ -311,3 +311,41 @@ pub fn closest_exact_hit(triangles: &[ExactTriangle], ray: &Ray) -> Option<(usiz
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, i, p, b)| (i, p, b))
 }
+
+/// The settings of a white-furnace render (the path tracer, Sobol, Russian roulette, two
+/// threads): what the furnace tests hold fixed while they vary the scene.
+pub struct Furnace {
+    pub size: u32,
+    pub spp: u32,
+    pub seed: u64,
+    pub max_depth: u32,
+    pub brdf: glint::render::BrdfModel,
+}
+
+/// `scene` seen by `camera` under a uniform environment of radiance 1 (the white furnace).
+pub fn white_furnace(
+    scene: &Scene,
+    camera: &Camera,
+    backend: BackendKind,
+    f: &Furnace,
+) -> glint::render::Image<Vec3> {
+    let env = glint::light::environment::EnvironmentLight::constant(Vec3::ONE);
+    let accel = render::prepare(scene, backend, BuildOptions::default()).expect("build");
+    let mut inputs = render::RenderInputs::of_scene(scene, accel.as_ref(), camera);
+    inputs.environment = Some(&env);
+    let settings = RenderSettings {
+        width: f.size,
+        height: f.size,
+        spp: f.spp,
+        seed: f.seed,
+        threads: 2,
+        max_depth: f.max_depth,
+        sampling: PixelSampling::Sobol,
+        integrator: render::Integrator::Path,
+        russian_roulette: true,
+        brdf: f.brdf,
+        ..RenderSettings::default()
+    };
+    let (film, _) = render::render_film(&inputs, &settings, 0..f.spp, None).expect("render");
+    film.resolve().0
+}
