@@ -13,13 +13,10 @@
 mod render_support;
 
 use glam::{Vec2, Vec3, Vec4};
-use glint::accel::{BackendKind, BuildOptions};
+use glint::accel::BackendKind;
 use glint::bsdf::SheenBsdf;
 use glint::bsdf::sheen::{directional_albedo, sheen_albedo};
-use glint::light::environment::EnvironmentLight;
-use glint::render::{
-    self, BrdfModel, Image, Integrator, PixelSampling, RenderInputs, RenderSettings,
-};
+use glint::render::{BrdfModel, Image};
 use glint::scene::layers::{Clearcoat, Sheen, Transmission, Volume};
 use glint::scene::{Material, Mesh};
 use render_support::{Furnace, look_at, ortho, quad, scene, white_furnace};

@@ -21,9 +21,8 @@
 mod render_support;
 
 use glam::Vec3;
-use glint::accel::{BackendKind, BuildOptions};
-use glint::light::environment::EnvironmentLight;
-use glint::render::{self, BrdfModel, Integrator, PixelSampling, RenderInputs, RenderSettings};
+use glint::accel::BackendKind;
+use glint::render::BrdfModel;
 use glint::scene::{Material, Mesh};
 use render_support::{Furnace, ortho, quad, scene, white_furnace};
 
