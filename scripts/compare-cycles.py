@@ -12,7 +12,15 @@ Renders each model with both renderers at several spp and two seeds, under the s
 * time: wall and CPU (user + sys of the whole process, from /usr/bin/time), and the renderer's
   own render time: Cycles' `render_s` (bpy.ops.render.render(): scene sync, BVH build, texture
   load and sampling; Python start-up, `import bpy` and the glTF import excluded) and glint's
-  "rendered in" time (sampling only; load, BVH and MIP chains excluded).
+  "rendered in" time (sampling only; load, BVH and MIP chains excluded). Both are wall times.
+  For Cycles also `render_cpu_s`: the CPU time (user + sys, every thread) of that same render
+  call, measured by scripts/cycles_timed.py, which runs ../shared/peers/cycles_render.py
+  unchanged. glint rows leave `render_cpu_s` empty: issue 23 times glint's whole process
+  (`cpu_s`), so no render-call CPU is measured for it.
+* issue 23's time: Cycles' render call against glint's whole process, both in CPU time, i.e.
+  `render_cpu_s` for Cycles rows and `cpu_s` for glint rows. The equal-error tables use it
+  where their headers say so. Rows from runs before `render_cpu_s` existed (an old runs.csv)
+  fall back to Cycles' whole-process `cpu_s`, with a warning on stderr and in the table text.
   Fixed costs are separated from sampling by a least-squares line t = a + b·spp over the spp
   levels of each renderer and model: b is the cost per sample per pixel, a the fixed cost
   (load, import, sync, BVH) that that timer includes.
@@ -62,7 +70,7 @@ MODELS = {
     "Duck": os.path.join(KHRONOS, "Duck/glTF-Binary/Duck.glb"),
 }
 FIELDS = ["model", "renderer", "spp", "seed", "width", "height", "wall_s", "cpu_s", "render_s",
-          "image"]
+          "image", "render_cpu_s"]
 REL_MSE_EPSILON = 1e-2
 
 
@@ -91,14 +99,18 @@ def timed(cmd):
 
 
 def render_cycles(args, model, spp, seed, image, extra=()):
-    cmd = [args.python, os.path.join(SHARED, "peers/cycles_render.py"), MODELS[model], image,
+    """Renders through scripts/cycles_timed.py (cycles_render.py unchanged, plus the render
+    call's CPU); returns (wall s, CPU s of the process, render call wall s, render call CPU s)."""
+    cmd = [args.python, os.path.join(ROOT, "scripts/cycles_timed.py"), MODELS[model], image,
            "--materials", "native", "--env", os.path.join(SHARED, "env/studio.exr"),
            "--env-strength", "1", "--bounces", "8", "--animation", "off",
            "--width", str(args.width), "--height", str(args.width), "--spp", str(spp),
            "--threads", str(args.threads), "--seed", str(seed)] + list(extra)
     out, _, wall, cpu = timed(cmd)
-    info = json.loads(out.strip().splitlines()[-1])
-    return wall, cpu, info["render_s"]
+    info = {}
+    for line in out.strip().splitlines():  # the peer's JSON line, then the wrapper's
+        info.update(json.loads(line))
+    return wall, cpu, info["render_s"], info["render_cpu_s"]
 
 
 def render_glint(args, model, spp, seed, image, width, height, extra=()):
@@ -126,8 +138,16 @@ def run(args):
     path = os.path.join(args.out, "runs.csv")
     done = {(r["model"], r["renderer"], r["spp"], r["seed"]) for r in load_rows(args.out)}
     new = not os.path.exists(path)
+    fields = FIELDS
+    if not new:
+        with open(path) as f:
+            fields = next(csv.reader(f), FIELDS)
+        if "render_cpu_s" not in fields:
+            print(f"warning: {path} has no render_cpu_s column (an older run): new rows keep its"
+                  " columns and Cycles' render-call CPU is not recorded; use a new --out for it",
+                  file=sys.stderr)
     with open(path, "a", newline="") as f:
-        w = csv.DictWriter(f, FIELDS)
+        w = csv.DictWriter(f, fields, extrasaction="ignore")
         if new:
             w.writeheader()
         for model in args.models:
@@ -140,9 +160,10 @@ def run(args):
                             continue
                         image = os.path.join(args.out, f"{model}-{renderer}-{spp}-{seed}.exr")
                         base, extra = variant(args, renderer)
+                        render_cpu = ""  # glint: issue 23 times its whole process (cpu_s)
                         if base == "cycles":
-                            wall, cpu, render_s = render_cycles(args, model, spp, seed, image,
-                                                                extra)
+                            wall, cpu, render_s, render_cpu = render_cycles(args, model, spp,
+                                                                            seed, image, extra)
                         else:
                             size = cycles_size(args.out, model)
                             if size is None:
@@ -152,7 +173,7 @@ def run(args):
                         h, wdt = read_rgb(image).shape[:2]
                         row = dict(model=model, renderer=renderer, spp=spp, seed=seed, width=wdt,
                                    height=h, wall_s=wall, cpu_s=cpu, render_s=render_s,
-                                   image=image)
+                                   image=image, render_cpu_s=render_cpu)
                         w.writerow(row)
                         f.flush()
                         print(json.dumps(row), file=sys.stderr)
@@ -188,6 +209,17 @@ def line_fit(xs, ys):
     return intercept, slope
 
 
+def issue_time(r):
+    """Issue 23's time of one row: (CPU s, whether it fell back). Cycles: its render call's CPU
+    (`render_cpu_s`); glint: its whole process's CPU (`cpu_s`). A Cycles row without
+    `render_cpu_s` (a run from before the column) falls back to its whole process."""
+    if not r["renderer"].startswith("cycles"):
+        return float(r["cpu_s"]), False
+    if r.get("render_cpu_s"):
+        return float(r["render_cpu_s"]), False
+    return float(r["cpu_s"]), True
+
+
 def measure(rows):
     """Per (model, renderer): spp levels with relMSE and median times, and the fitted lines."""
     groups = {}
@@ -209,16 +241,32 @@ def measure(rows):
             m = (a + b) / 2
             rel_self = float(np.mean(var / (m ** 2 + REL_MSE_EPSILON)))
             med = lambda k: float(np.median([float(r[k]) for r in rs]))  # noqa: E731
+            issue = [issue_time(r) for r in rs]
             points.append(dict(spp=spp, rel_mse=rel, rel_mse_self=rel_self, wall=med("wall_s"),
                                cpu=med("cpu_s"),
-                               render=med("render_s")))
+                               render=med("render_s"),
+                               issue=float(np.median([t for t, _ in issue])),
+                               fallback=any(fb for _, fb in issue)))
         err_fit = line_fit([math.log(p["spp"]) for p in points],
                            [math.log(p["rel_mse"]) for p in points])
         fits = {k: line_fit([p["spp"] for p in points], [p[k] for p in points])
-                for k in ("wall", "cpu", "render")}
+                for k in ("wall", "cpu", "render", "issue")}
         result[key] = dict(points=points, err_fit=err_fit, fits=fits,
-                           size=(top[0]["width"], top[0]["height"]))
+                           size=(top[0]["width"], top[0]["height"]),
+                           fallback=any(p["fallback"] for p in points))
     return result
+
+
+def warn_fallbacks(res):
+    """Says on stderr and in the Markdown which Cycles rows lack their render call's CPU."""
+    old = sorted(f"{k[0]}/{k[1]}" for k, m in res.items() if m["fallback"])
+    if not old:
+        return
+    text = ("Warning: these Cycles rows have no render_cpu_s (an older runs.csv): their issue-23"
+            " time falls back to the whole process's CPU, which includes Python start-up,"
+            " `import bpy` and the glTF import: " + ", ".join(old) + ".")
+    print(text, file=sys.stderr)
+    print(text + "\n")
 
 
 def spp_for(m, rel):
@@ -241,11 +289,14 @@ def spp_for(m, rel):
 
 def table(args):
     res = measure(load_rows(args.out))
+    warn_fallbacks(res)
     models = sorted({k[0] for k in res})
     print("Per renderer and model: relMSE of one render against its own converged image (two-seed"
-          " estimate), and median times of the two seeds (s).\n")
-    print("| model | renderer | spp | relMSE | render s | CPU s (process) | wall s (process) |")
-    print("|---|---|---|---|---|---|---|")
+          " estimate), and median times of the two seeds (s). render s: the renderer's own timer"
+          " (wall); render CPU s: Cycles' render call in CPU time (user + sys, all threads).\n")
+    print("| model | renderer | spp | relMSE | render s | render CPU s | CPU s (process) |"
+          " wall s (process) |")
+    print("|---|---|---|---|---|---|---|---|")
     renderers = labels_of(res, "cycles") + labels_of(res, "glint")
     for model in models:
         for ren in renderers:
@@ -253,13 +304,16 @@ def table(args):
             if not m:
                 continue
             for p in m["points"]:
+                render_cpu = ("–" if p["fallback"] or not ren.startswith("cycles")
+                              else f"{p['issue']:.2f}")
                 print(f"| {model} | {ren} | {p['spp']} | {p['rel_mse']:.4g} | {p['render']:.2f} "
-                      f"| {p['cpu']:.2f} | {p['wall']:.2f} |")
+                      f"| {render_cpu} | {p['cpu']:.2f} | {p['wall']:.2f} |")
     print("\nFitted lines: error slope (d ln relMSE / d ln spp), fixed cost a and cost per spp b of"
-          " t = a + b·spp (CPU s of the whole process; render s of the renderer's own timer).\n")
+          " t = a + b·spp (CPU s of the whole process; render s of the renderer's own timer;"
+          " issue-23 time: CPU s of Cycles' render call, of glint's whole process).\n")
     print("| model | size | renderer | error slope | CPU a | CPU b (per spp) | render a |"
-          " render b (per spp) |")
-    print("|---|---|---|---|---|---|---|---|")
+          " render b (per spp) | issue-23 a | issue-23 b (per spp) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for model in models:
         for ren in renderers:
             m = res.get((model, ren))
@@ -268,13 +322,15 @@ def table(args):
             f = m["fits"]
             print(f"| {model} | {m['size'][0]}×{m['size'][1]} | {ren} | {m['err_fit'][1]:.3f} "
                   f"| {f['cpu'][0]:.2f} | {f['cpu'][1]:.4f} | {f['render'][0]:.2f} "
-                  f"| {f['render'][1]:.4f} |")
+                  f"| {f['render'][1]:.4f} | {f['issue'][0]:.2f} | {f['issue'][1]:.4f} |")
     print("\nEqual error: for the relMSE Cycles reaches at each spp, the spp glint needs (log-log"
           " interpolation) and each renderer's sampling cost for it (b·spp, fixed costs excluded) and"
-          " total (a + b·spp); speed-up = Cycles' time / glint's.\n")
+          " total (a + b·spp); speed-up = Cycles' time / glint's. Issue 23's column: Cycles' render"
+          " call against glint's whole process, CPU time, a + b·spp.\n")
     print("| model | Cycles | Cycles spp | relMSE | glint | glint spp | speed-up, CPU per spp |"
-          " speed-up, CPU incl. fixed | speed-up, render timer (wall) per spp |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          " speed-up, CPU incl. fixed | speed-up, render timer (wall) per spp |"
+          " speed-up, issue 23 (Cycles render call, glint process; CPU) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     pairs = [(c, g) for c in labels_of(res, "cycles") for g in labels_of(res, "glint")]
     for model in models:
         for cl, gl in pairs:
@@ -284,7 +340,8 @@ def table(args):
             for p in c["points"]:
                 n = spp_for(g, p["rel_mse"])
                 cells = []
-                for k, incl in (("cpu", False), ("cpu", True), ("render", False)):
+                for k, incl in (("cpu", False), ("cpu", True), ("render", False),
+                                ("issue", True)):
                     (ca, cb), (ga, gb) = c["fits"][k], g["fits"][k]
                     tc = cb * p["spp"] + (ca if incl else 0.0)
                     tg = gb * n + (ga if incl else 0.0)
@@ -293,8 +350,11 @@ def table(args):
                       + " | ".join(cells) + " |")
     print("\nAt equal spp (issue 23's measure): relMSE of each renderer from its two seeds a, b with"
           " m = (a + b)/2, relMSE = mean(((a − b)²/2)/(m² + 0.01)); speed-up at equal error ="
-          " (CPU_cycles · relMSE_cycles)/(CPU_glint · relMSE_glint), whole processes.\n")
-    print("| model | spp | Cycles | relMSE | CPU s | glint | relMSE | CPU s | speed-up |")
+          " (CPU_cycles · relMSE_cycles)/(CPU_glint · relMSE_glint), with CPU_cycles the CPU time"
+          " of Cycles' render call (bpy.ops.render.render(), all threads) and CPU_glint that of"
+          " glint's whole process.\n")
+    print("| model | spp | Cycles | relMSE | render-call CPU s | glint | relMSE | process CPU s |"
+          " speed-up |")
     print("|---|---|---|---|---|---|---|---|---|")
     for model in models:
         for cl, gl in pairs:
@@ -307,8 +367,8 @@ def table(args):
                 if q is None:
                     continue
                 ec, eg = p["rel_mse_self"], q["rel_mse_self"]
-                print(f"| {model} | {p['spp']} | {cl} | {ec:.4g} | {p['cpu']:.2f} | {gl} | {eg:.4g} "
-                      f"| {q['cpu']:.2f} | {(p['cpu'] * ec) / (q['cpu'] * eg):.2f}× |")
+                print(f"| {model} | {p['spp']} | {cl} | {ec:.4g} | {p['issue']:.2f} | {gl} | {eg:.4g} "
+                      f"| {q['issue']:.2f} | {(p['issue'] * ec) / (q['issue'] * eg):.2f}× |")
 
 
 def main():
