@@ -369,6 +369,38 @@ def table(args):
                 ec, eg = p["rel_mse_self"], q["rel_mse_self"]
                 print(f"| {model} | {p['spp']} | {cl} | {ec:.4g} | {p['issue']:.2f} | {gl} | {eg:.4g} "
                       f"| {q['issue']:.2f} | {(p['issue'] * ec) / (q['issue'] * eg):.2f}× |")
+    summary(res, models)
+
+
+def summary(res, models):
+    """Issue 23's count: per model, spp and glint label, the equal-spp speed-up against the
+    smaller of Cycles' labels (plain and adaptive), and which one it was."""
+    cycles, glints = labels_of(res, "cycles"), labels_of(res, "glint")
+    spps = sorted({p["spp"] for m in res.values() for p in m["points"]})
+    print("\nSummary (issue 23's count): the equal-spp speed-up above against the smaller of"
+          f" {', '.join(cycles)} at each spp; the Cycles label that gave it in brackets.\n")
+    print("| model | glint | " + " | ".join(f"{s} spp" for s in spps) + " |")
+    print("|---|---|" + "---|" * len(spps))
+    for model in models:
+        for gl in glints:
+            g = res.get((model, gl))
+            if not g:
+                continue
+            gp = {p["spp"]: p for p in g["points"]}
+            cells = []
+            for spp in spps:
+                q = gp.get(spp)
+                best = None
+                for cl in cycles:
+                    c = res.get((model, cl))
+                    p = c and next((x for x in c["points"] if x["spp"] == spp), None)
+                    if not (p and q):
+                        continue
+                    f = (p["issue"] * p["rel_mse_self"]) / (q["issue"] * q["rel_mse_self"])
+                    if best is None or f < best[0]:
+                        best = (f, cl)
+                cells.append(f"{best[0]:.2f}× ({best[1]})" if best else "–")
+            print(f"| {model} | {gl} | " + " | ".join(cells) + " |")
 
 
 def main():

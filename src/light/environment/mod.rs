@@ -39,10 +39,14 @@
 //! and a per-texel constant density leaves `L/p` up to 16× its cell mean at the corners.
 //! With `s` even every cell lies inside one bilinear patch (between four texel centres), where
 //! the lookup is bilinear, so its value at the cell centre is exactly its mean over the cell.
-//! Memory rule: `s` is the largest of 4, 2, 1 with at most [`MAX_SAMPLING_CELLS`] cells
-//! (4096 × 2048, about 64 MiB of tables), so a 1k × 512 HDRI gets 4 × 4 cells per texel, a
-//! 2k × 1k one 2 × 2, and a 4k or 8k one its own texels (whose lookup already varies little
-//! across a cell). A sampled `(u, v)` with density `p(u, v)` becomes a direction with the
+//! Size rule: `s` is 2 where that makes at most [`MAX_SAMPLING_CELLS`] cells (4096 × 2048,
+//! about 64 MiB of tables), else 1, so a 1k × 512 or 2k × 1k HDRI gets 2 × 2 cells per texel
+//! and a 4k or 8k one its own texels (whose lookup already varies little across a cell).
+//! Two, not Cycles' four: the tables are read at random, so their size is cache misses on
+//! every light sample, and building them is start-up. Measured under `studio.exr` (1k × 512)
+//! at 128 spp, 256 × 256: 4 × 4 cells cost 4–5 % more CPU per render than 2 × 2 (paired, three
+//! runs each) for 0.4–0.6 % lower relMSE, and one cell per texel gives 1–3 % more relMSE
+//! than 2 × 2 for no saving (docs/speed.md, "Where the remaining factor sits"). A sampled `(u, v)` with density `p(u, v)` becomes a direction with the
 //! solid-angle density
 //!
 //! ```text
@@ -66,8 +70,10 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 use std::path::{Path, PathBuf};
 
-/// Cells per texel along each axis of a bilinear map's sampling distribution (module doc).
-pub const SUPERSAMPLING: usize = 4;
+/// Cells per texel along each axis of a bilinear map's sampling distribution (module doc):
+/// even, so that every cell lies inside one bilinear patch.
+pub const SUPERSAMPLING: usize = 2;
+const _: () = assert!(SUPERSAMPLING.is_multiple_of(2));
 
 /// Most cells of a sampling distribution before [`SUPERSAMPLING`] is reduced (4096 × 2048).
 pub const MAX_SAMPLING_CELLS: usize = 4096 * 2048;
@@ -609,7 +615,7 @@ fn cells_per_texel(w: usize, h: usize, interp: Interpolation) -> usize {
     if interp == Interpolation::Nearest {
         return 1;
     }
-    [SUPERSAMPLING, 2, 1]
+    [SUPERSAMPLING, 1]
         .into_iter()
         .find(|&s| w.saturating_mul(h).saturating_mul(s * s) <= MAX_SAMPLING_CELLS)
         .unwrap_or(1)
