@@ -342,6 +342,9 @@ def test_the_gil_is_released_while_rendering():
 @pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to itself")
 def test_ctrl_c_stops_a_render():
     scene = glint.load()
+    # A process started in the background by a non-interactive shell inherits SIGINT ignored,
+    # and Python then installs no handler: Ctrl-C's own handler is put in place for the test.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
     start = time.perf_counter()
     timer.start()
@@ -351,6 +354,7 @@ def test_ctrl_c_stops_a_render():
             scene.render(width=640, height=360, spp=4096)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     assert time.perf_counter() - start < 30
 
 
