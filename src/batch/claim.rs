@@ -54,6 +54,8 @@ use std::time::Duration;
 
 mod exclusive;
 
+pub use exclusive::this_process_started;
+
 /// How often the holder of an exclusive claim file touches it.
 pub const HEARTBEAT: Duration = Duration::from_secs(60);
 

@@ -99,7 +99,10 @@ pub fn run_with_loader(
     load: &SceneLoader<'_>,
 ) -> Result<BatchReport, RenderError> {
     let start = Instant::now();
-    let started = std::time::SystemTime::now();
+    // With --force, outputs written after this moment are another batch's work. The process's
+    // own start, not this call's: two batches started side by side begin their processes
+    // together, but the later one may reach this line after the earlier one wrote a job.
+    let started = claim::this_process_started().unwrap_or_else(std::time::SystemTime::now);
     let mut reports: Vec<JobReport> = Vec::new();
     let fail =
         |job: &Job, message: String| report(job, JobStatus::Failed, 0.0, None, Some(message));
