@@ -368,8 +368,14 @@ def table(args):
                     continue
                 ec, eg = p["rel_mse_self"], q["rel_mse_self"]
                 print(f"| {model} | {p['spp']} | {cl} | {ec:.4g} | {p['issue']:.2f} | {gl} | {eg:.4g} "
-                      f"| {q['issue']:.2f} | {(p['issue'] * ec) / (q['issue'] * eg):.2f}× |")
+                      f"| {q['issue']:.2f} | {equal_spp_speedup(p, q):.2f}× |")
     summary(res, models)
+
+
+def equal_spp_speedup(p, q):
+    """Issue 23's speed-up of glint's point q over Cycles' point p at the same spp: issue-23
+    time × relMSE (each from its own two seeds), Cycles' over glint's."""
+    return (p["issue"] * p["rel_mse_self"]) / (q["issue"] * q["rel_mse_self"])
 
 
 def summary(res, models):
@@ -396,7 +402,7 @@ def summary(res, models):
                     p = c and next((x for x in c["points"] if x["spp"] == spp), None)
                     if not (p and q):
                         continue
-                    f = (p["issue"] * p["rel_mse_self"]) / (q["issue"] * q["rel_mse_self"])
+                    f = equal_spp_speedup(p, q)
                     if best is None or f < best[0]:
                         best = (f, cl)
                 cells.append(f"{best[0]:.2f}× ({best[1]})" if best else "–")

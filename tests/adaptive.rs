@@ -3,13 +3,15 @@
 //! sampling at equal total samples on a scene with a converged background and a noisy object,
 //! and the same seed gives the same image on 1 and 2 threads.
 
+mod light_support;
 mod render_support;
 
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderOutput, RenderSettings};
 use glint::scene::{Camera, Light, Scene};
-use render_support::{emitter, lambert, look_at, quad, scene};
+use light_support::mean_and_error;
+use render_support::{emitter, image_bits, lambert, look_at, quad, scene};
 
 /// A grey floor lit by a point light (noise-free: its pixels converge at once) and, over its
 /// middle, a grey card with a small bright lamp just above it that only BSDF sampling finds
@@ -73,13 +75,6 @@ fn total_samples(out: &RenderOutput) -> u64 {
     counts.pixels.iter().map(|&n| n as u64).sum()
 }
 
-fn mean_and_sigma(values: &[f64]) -> (f64, f64) {
-    let n = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
-}
-
 /// Unbiased: the image mean over many seeds is the uniform render's within 4σ, although most
 /// pixels stop early and many of the stopped ones have not yet seen the lamp.
 #[test]
@@ -98,8 +93,8 @@ fn adaptive_sampling_changes_no_mean() {
         saved += 1.0 - total_samples(&out) as f64 / (32.0 * 24.0 * 24.0);
         adaptive.push(image_mean(&out));
     }
-    let (mu, su) = mean_and_sigma(&uniform);
-    let (ma, sa) = mean_and_sigma(&adaptive);
+    let (mu, su) = mean_and_error(&uniform);
+    let (ma, sa) = mean_and_error(&adaptive);
     let sigma = (su * su + sa * sa).sqrt();
     assert!(
         (mu - ma).abs() < 4.0 * sigma,
@@ -152,14 +147,7 @@ fn adaptive_sampling_is_the_same_on_one_and_two_threads() {
     let two = render(&scene, &camera, &s);
     s.threads = 1;
     let one = render(&scene, &camera, &s);
-    let bits = |o: &RenderOutput| -> Vec<[u32; 3]> {
-        o.image
-            .pixels
-            .iter()
-            .map(|p| p.to_array().map(f32::to_bits))
-            .collect()
-    };
-    assert_eq!(bits(&one), bits(&two));
+    assert_eq!(image_bits(&one), image_bits(&two));
     assert_eq!(one.aovs.samples, two.aovs.samples);
     assert!(total_samples(&one) < 32 * 24 * 24, "nothing stopped");
 }

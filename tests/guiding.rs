@@ -14,7 +14,7 @@ use glint::guiding::{Directional, Record, Trainer};
 use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderInputs, RenderSettings};
 use glint::scene::{Camera, Material, Scene};
 use light_support::chi_square;
-use render_support::{ortho, quad, scene};
+use render_support::{image_bits, ortho, quad, scene};
 use std::f64::consts::PI;
 
 /// The χ² quantile at 1 − 1e-4 (Wilson–Hilferty).
@@ -333,43 +333,21 @@ fn guided_images_do_not_depend_on_the_thread_count() {
     let scene = floor_under_a_lamp(floor(0.6, 0.5, 0.5), 5.0, 0.3);
     let camera = ortho(Vec3::new(3.0, 0.5, 0.4), Vec3::ZERO, Vec3::Y, 2.0, 2.0);
     let accel = render::prepare(&scene, BackendKind::default(), BuildOptions::default()).unwrap();
-    let render = |threads, adaptive| {
+    let render = |threads, adaptive, guiding| {
         let s = RenderSettings {
             threads,
             width: 40,
             height: 24,
             seed: 3,
             adaptive,
-            ..settings(32, true, LightStrategy::Mis)
+            ..settings(32, guiding, LightStrategy::Mis)
         };
-        render::render(&scene, accel.as_ref(), &camera, &s, None)
-            .unwrap()
-            .image
-            .pixels
-            .iter()
-            .flat_map(|p| p.to_array().map(f32::to_bits))
-            .collect::<Vec<_>>()
+        image_bits(&render::render(&scene, accel.as_ref(), &camera, &s, None).unwrap())
     };
-    assert_eq!(render(1, None), render(2, None));
-    assert_eq!(render(1, Some(0.05)), render(3, Some(0.05)));
+    assert_eq!(render(1, None, true), render(2, None, true));
+    assert_eq!(render(1, Some(0.05), true), render(3, Some(0.05), true));
     // And guiding changed the image (the guide was used).
-    let plain = {
-        let s = RenderSettings {
-            threads: 2,
-            width: 40,
-            height: 24,
-            seed: 3,
-            ..settings(32, false, LightStrategy::Mis)
-        };
-        render::render(&scene, accel.as_ref(), &camera, &s, None)
-            .unwrap()
-            .image
-            .pixels
-            .iter()
-            .flat_map(|p| p.to_array().map(f32::to_bits))
-            .collect::<Vec<_>>()
-    };
-    assert_ne!(plain, render(2, None));
+    assert_ne!(render(2, None, false), render(2, None, true));
 }
 
 #[test]
@@ -413,12 +391,7 @@ fn progressive_guided_renders_train_and_do_not_depend_on_the_thread_count() {
         let out =
             render::progressive::render_progressive_with(&inputs, &s, &rule, None).expect("render");
         assert_eq!(out.spp, 40);
-        out.output
-            .image
-            .pixels
-            .iter()
-            .flat_map(|p| p.to_array().map(f32::to_bits))
-            .collect::<Vec<_>>()
+        image_bits(&out.output)
     };
     let guided = run(1, true);
     assert_eq!(guided, run(2, true));

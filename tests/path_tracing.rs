@@ -15,7 +15,7 @@ use glint::accel::{BackendKind, BuildOptions};
 use glint::light::environment::EnvironmentLight;
 use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderInputs, RenderSettings};
 use glint::scene::{Camera, Material, Mesh, Scene};
-use render_support::{look_at, ortho, quad, scene};
+use render_support::{image_bits, look_at, ortho, quad, scene};
 
 /// Standard errors a pixel may lie from the closed form.
 const Z: f64 = 5.0;
@@ -289,13 +289,7 @@ fn path_traced_images_do_not_depend_on_the_thread_count() {
             threads,
             ..settings(24, 4, 7)
         };
-        render::render(&scene, accel.as_ref(), &camera, &s, None)
-            .unwrap()
-            .image
-            .pixels
-            .iter()
-            .flat_map(|p| p.to_array().map(f32::to_bits))
-            .collect::<Vec<_>>()
+        image_bits(&render::render(&scene, accel.as_ref(), &camera, &s, None).unwrap())
     };
     assert_eq!(render(1), render(3));
 }

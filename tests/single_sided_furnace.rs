@@ -18,12 +18,14 @@
 //! heavy-tailed (single pixels far above 1 at 64 spp, with or without this rule), which no
 //! 1 % test at a test's sample count can hold.
 
+mod light_support;
 mod render_support;
 
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::BrdfModel;
 use glint::scene::{Material, Mesh};
+use light_support::mean_and_error;
 use render_support::{Furnace, ortho, quad, scene, white_furnace};
 
 /// Image side in pixels; the view spans the floor exactly.
@@ -67,10 +69,7 @@ fn floor_mean(material: Material, backend: BackendKind, spp: u32) -> (f64, f64) 
             }
         }
     }
-    let n = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
+    mean_and_error(&values)
 }
 
 #[test]

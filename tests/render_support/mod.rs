@@ -237,6 +237,15 @@ pub fn scene(meshes: Vec<Mesh>, materials: Vec<Material>, lights: Vec<Light>) ->
     }
 }
 
+/// The radiance's bits, pixel by pixel and channel by channel: for "the same image" checks.
+pub fn image_bits(out: &RenderOutput) -> Vec<u32> {
+    out.image
+        .pixels
+        .iter()
+        .flat_map(|p| p.to_array().map(f32::to_bits))
+        .collect()
+}
+
 /// Every value of an output is finite.
 pub fn all_finite(out: &RenderOutput) -> bool {
     out.image.pixels.iter().all(|p| p.is_finite())
