@@ -10,9 +10,7 @@
 //! attributes are re-solved by glint on the triangle Embree reports: `accel::triangle`);
 //! anything Embree computes is compared within a stated number of ulps.
 
-mod common;
-
-use common::{bounds, camera_rays, random_rays};
+use crate::support::{bounds, camera_rays, random_rays};
 use glam::Vec3;
 use glint::accel::{self, Accel, BackendKind, BuildOptions, Coherence, Hit, Ray, TriangleMesh};
 use glint::procedural;

@@ -1,6 +1,6 @@
 //! The Embree the binary links is the one build.rs found: the shim's compiled-in major version
 //! and header version agree with what build.rs exported, and, when a script states which major
-//! it built against (`GLINT_EXPECT_EMBREE_MAJOR`, set by `scripts/check-embree4.sh`), with that.
+//! it built against (`GLINT_EXPECT_EMBREE_MAJOR`, set by `tools/check-embree4.sh`), with that.
 
 #![cfg(feature = "embree")]
 

@@ -2,17 +2,15 @@
 //! must look exactly like its copies baked into world space, in both backends and both
 //! integrators, and the loader must share the meshes glTF draws more than once.
 
-mod common;
-mod gltf_fixture;
-mod render_support;
+use crate::support;
 
-use common::SplitMix;
+use crate::support::Fixture;
+use crate::support::SplitMix;
+use crate::support::{emitter, lambert, look_at, quad, render_with};
 use glam::{Affine3A, Mat3, Mat4, Quat, Vec3};
 use glint::accel::{self, BackendKind, BuildOptions, Placement, Ray};
 use glint::render::{self, AovSelection, Integrator, PixelSampling, RenderSettings};
 use glint::scene::{Camera, Light, Mesh, Scene};
-use gltf_fixture::Fixture;
-use render_support::{emitter, lambert, look_at, quad, render_with};
 use serde_json::json;
 use std::path::Path;
 
@@ -253,7 +251,7 @@ fn placed_emitters_light_like_their_baked_copies() {
     let floor = quad(Vec3::ZERO, Vec3::X * 4.0, Vec3::Z * -4.0, 0);
     // A panel facing down (u × v = X × Z = −Y), emitting from its front only.
     let panel = quad(Vec3::ZERO, Vec3::X * 0.5, Vec3::Z * 0.5, 1);
-    let mut scene = render_support::scene(
+    let mut scene = support::scene(
         vec![floor, panel],
         vec![lambert(Vec3::splat(0.7), false), emitter(Vec3::splat(5.0))],
         vec![],
@@ -326,7 +324,7 @@ fn backends_agree_with_baked_copies_on_every_ray() {
         ..Mesh::default()
     };
     let scene = placed(
-        render_support::scene(vec![mesh], vec![lambert(Vec3::ONE, true)], vec![]),
+        support::scene(vec![mesh], vec![lambert(Vec3::ONE, true)], vec![]),
         &transforms,
     );
     let flat = flattened(&scene);

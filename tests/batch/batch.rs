@@ -10,23 +10,8 @@ use glint::render::partial::{merge, render_partial};
 use glint::render::{AovSelection, RenderInputs, RenderSettings, render};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn demo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb")
-}
-
-fn glint(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run glint")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use crate::support::{demo, glint, stderr};
 
 /// A job file of `2 + 3·2` tiny jobs on the demo scene: two plain jobs and a sweep.
 fn job_file(dir: &Path) -> PathBuf {

@@ -7,13 +7,10 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-fn demo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb")
-}
+use crate::support::{demo, glint_command};
 
 fn command(args: &[&str], cwd: &Path, no_flock: bool) -> Command {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_glint"));
-    command.args(args).current_dir(cwd);
+    let mut command = glint_command(args, cwd);
     for var in [
         "SLURM_ARRAY_TASK_ID",
         "SLURM_ARRAY_TASK_COUNT",

@@ -9,9 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Instant;
 
-fn demo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb")
-}
+use crate::support::{demo, glint_command, stderr};
 
 /// Environment variables `--shard auto` reads: cleared for every child, so that a CI runner
 /// inside a Slurm or Kubernetes job does not change these tests.
@@ -26,8 +24,7 @@ const SHARD_VARS: [&str; 7] = [
 ];
 
 fn command(args: &[&str], cwd: &Path) -> Command {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_glint"));
-    command.args(args).current_dir(cwd);
+    let mut command = glint_command(args, cwd);
     for var in SHARD_VARS {
         command.env_remove(var);
     }
@@ -36,10 +33,6 @@ fn command(args: &[&str], cwd: &Path) -> Command {
 
 fn glint(args: &[&str], cwd: &Path) -> Output {
     command(args, cwd).output().expect("run glint")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
 fn report(path: &Path) -> serde_json::Value {

@@ -1,10 +1,10 @@
 //! KHR_draco_mesh_compression: the Draco variants of the Khronos Box and Duck (made with
-//! Google's encoder, `scripts/make-draco-assets.mjs`, kept in `tests/draco/`) load like their
+//! Google's encoder, `tools/make-draco-assets.mjs`, kept in `tests/draco/`) load like their
 //! uncompressed twins in `../shared/khronos` within the quantisation step, and render like
 //! them; a corrupted Draco stream is one clean error; a stream larger than the geometry
 //! budget is refused before it is decoded.
 
-mod render_support;
+use crate::support;
 
 use glam::Vec3;
 use glint::accel::BackendKind;
@@ -103,7 +103,7 @@ fn check_twins(model: &str) -> (Scene, Scene) {
 /// not the textures), under the default camera and lights of `framing`.
 fn render_plain(scene: &Scene, framing: &Scene) -> Vec<Vec3> {
     let mut scene = scene.clone();
-    scene.materials = vec![render_support::lambert(Vec3::splat(0.5), true)];
+    scene.materials = vec![support::lambert(Vec3::splat(0.5), true)];
     for mesh in &mut scene.meshes {
         mesh.material = 0;
     }
@@ -111,8 +111,8 @@ fn render_plain(scene: &Scene, framing: &Scene) -> Vec<Vec3> {
     glint::scene::defaults::complete(&mut framed);
     scene.lights = framed.lights.clone();
     let camera = framed.cameras.first().cloned().expect("a default camera");
-    let settings = render_support::centre_settings(96, 96);
-    render_support::render_with(&scene, &camera, BackendKind::Bvh, &settings)
+    let settings = support::centre_settings(96, 96);
+    support::render_with(&scene, &camera, BackendKind::Bvh, &settings)
         .image
         .pixels
 }

@@ -4,12 +4,12 @@
 //! specification, computed here independently of the loader (the `gltf` crate reads the raw
 //! float data; the interpolation formulas are written out again below).
 
-mod gltf_fixture;
+use crate::support;
 
+use crate::support::Fixture;
 use glam::{Mat4, Quat, Vec3, Vec4};
 use glint::scene::gltf::{SceneSelection, load_selected};
 use glint::scene::{Mesh, Scene};
-use gltf_fixture::Fixture;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -614,10 +614,10 @@ fn ext_texture_webp_images_decode_in_place_of_the_fallback() {
         .write_image(&rgba, 2, 1, image::ExtendedColorType::Rgba8)
         .expect("encode WebP");
     // A black PNG fallback that must not be used.
-    let fallback = gltf_fixture::png(1, 1, &[0, 0, 0, 255]);
+    let fallback = support::png(1, 1, &[0, 0, 0, 255]);
     let images = json!([
-        {"uri": gltf_fixture::data_uri("image/png", &fallback)},
-        {"uri": gltf_fixture::data_uri("image/webp", &webp)}
+        {"uri": support::data_uri("image/png", &fallback)},
+        {"uri": support::data_uri("image/webp", &webp)}
     ]);
     for texture in [
         json!({"source": 0, "extensions": {"EXT_texture_webp": {"source": 1}}}),
@@ -654,7 +654,7 @@ fn sixteen_bit_pngs_keep_sixteen_bits() {
     let mut rest = textured_triangle(
         &mut fixture,
         json!({"source": 0}),
-        json!([{"uri": gltf_fixture::data_uri("image/png", &png)}]),
+        json!([{"uri": support::data_uri("image/png", &png)}]),
     );
     rest.as_object_mut().unwrap().remove("extensionsUsed");
     rest.as_object_mut().unwrap().remove("extensionsRequired");

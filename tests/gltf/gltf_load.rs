@@ -1,12 +1,10 @@
 //! The glTF loader against the shared sample scenes and against small hand-built documents
 //! whose right answers follow from the glTF specification.
 
-mod gltf_fixture;
-
+use crate::support::{Fixture, TempDir, data_uri, png, scenes_dir, triangle_normal};
 use glam::{Affine2, Mat3, Quat, Vec2, Vec3, Vec4};
 use glint::scene::gltf::{load, load_slice_with_warnings};
 use glint::scene::{Light, MagFilter, Projection, SceneFeatures, WrapMode};
-use gltf_fixture::{Fixture, TempDir, data_uri, png, scenes_dir, triangle_normal};
 use serde_json::json;
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 

@@ -1,10 +1,8 @@
 //! Bad input never panics the loader: each gives an error naming the file and the specific
 //! problem.
 
-mod gltf_fixture;
-
+use crate::support::{Fixture, TempDir, data_uri, scenes_dir};
 use glint::scene::gltf::{LoadError, load, load_slice_with_warnings};
-use gltf_fixture::{Fixture, TempDir, data_uri, scenes_dir};
 use rand::{Rng, SeedableRng};
 use serde_json::{Value, json};
 use std::path::Path;

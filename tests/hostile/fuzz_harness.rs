@@ -3,11 +3,7 @@
 //! it within a bounded number of executions with a fixed RNG seed; and the engine's pieces
 //! (bundles, PNG checksums, signatures) do what the fuzz binary relies on.
 
-#[path = "mutate/mod.rs"]
-mod mutate;
-
-#[path = "../examples/fuzz/engine.rs"]
-mod engine;
+use crate::engine;
 
 use engine::{Fuzzer, Outcome, Shape, Target, Verdict};
 

@@ -2,7 +2,7 @@
 //! each must now load (or be refused with a one-line error naming the file) without a panic.
 //! An abort or a hang fails the test binary.
 //!
-//! - `tests/fuzz-regressions/*.gltf|glb`: found by the file-based loop (`scripts/fuzz.sh`),
+//! - `tests/fuzz-regressions/*.gltf|glb`: found by the file-based loop (`tools/fuzz.sh`),
 //!   replayed on every backend;
 //! - `tests/fuzz-regressions/TARGET/*`: found by the in-process targets (`examples/fuzz`),
 //!   replayed through the same target function, which must come back clean (no panic, no
@@ -12,13 +12,10 @@
 //! shared seed file it was mutated from, whose folder its relative URIs resolve against (the
 //! part after `shared/` is looked up under `../shared`).
 
-#[path = "mutate/mod.rs"]
-mod mutate;
+use crate::mutate;
 
-#[path = "../examples/fuzz/engine.rs"]
-mod engine;
-#[path = "../examples/fuzz/targets.rs"]
-mod targets;
+use crate::engine;
+use crate::targets;
 
 use std::path::{Path, PathBuf};
 

@@ -2,11 +2,9 @@
 //! input gives one error line naming the file and the item, a non-zero exit and no output
 //! file; or, where a value is clamped, a render without inf or NaN.
 
-mod gltf_fixture;
-#[path = "mutate/mod.rs"]
-mod mutate;
+use crate::mutate;
 
-use gltf_fixture::{Fixture, TempDir, data_uri, png};
+use crate::support::{Fixture, TempDir, data_uri, glint, png};
 use serde_json::{Value, json};
 use std::path::Path;
 use std::process::{Command, Output};
@@ -32,19 +30,11 @@ fn triangle_doc(positions: &[[f32; 3]], extra: Value) -> Value {
 
 const TRIANGLE: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 
-fn glint(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run glint")
-}
-
 /// Renders `file` (in `dir`) with `extra` options and checks the failure contract: non-zero
 /// exit, no panic, one line naming the file and containing each of `expected`, no output or
 /// temporary file.
 fn render_fails(dir: &Path, file: &str, extra: &[&str], expected: &[&str]) {
-    let out = glint(dir, &render_args(file, extra));
+    let out = glint(&render_args(file, extra), dir);
     assert_clean_failure(dir, file, &out, expected);
 }
 
@@ -328,8 +318,8 @@ fn device_fifo_and_absolute_uris_are_refused_without_blocking() {
     std::fs::remove_file(&fifo).expect("remove fifo");
     // The scene file itself may not be a device either.
     let out = glint(
-        dir.path(),
         &["render", "--quiet", "-o", "out.png", "/dev/zero"],
+        dir.path(),
     );
     assert!(!out.status.success() && out.status.code().is_some());
     assert!(String::from_utf8_lossy(&out.stderr).contains("not a regular file"));
@@ -385,7 +375,7 @@ fn uris_outside_the_asset_root() {
         ];
         a.extend_from_slice(args);
         a.push(file);
-        let out = glint(dir.path(), &a);
+        let out = glint(&a, dir.path());
         assert!(
             out.status.success(),
             "{file}: {}",
@@ -404,7 +394,6 @@ fn overflowing_material_factor_is_clamped() {
     doc["meshes"][0]["primitives"][0]["material"] = json!(0);
     write_json(&dir, "factor.gltf", &doc);
     let out = glint(
-        dir.path(),
         &[
             "render",
             "--width",
@@ -417,6 +406,7 @@ fn overflowing_material_factor_is_clamped() {
             "out.exr",
             "factor.gltf",
         ],
+        dir.path(),
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
@@ -450,7 +440,7 @@ fn spp_and_size_upper_bounds() {
             "render", "--quiet", "--width", "60000", "--height", "60000", "-o", "out.png",
         ][..],
     ] {
-        let out = glint(dir.path(), args);
+        let out = glint(args, dir.path());
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{args:?} accepted");
         assert!(stderr.contains("limit"), "{args:?}: {stderr}");
@@ -511,11 +501,11 @@ fn animated_triangle(target: Value) -> Value {
 /// Renders `file` at `--time 0.5`, which must succeed with a warning naming `expected`.
 fn renders_with_warning(dir: &Path, file: &str, expected: &[&str]) {
     let out = glint(
-        dir,
         &[
             "render", "--width", "16", "--height", "16", "--spp", "1", "--time", "0.5", "-o",
             "out.png", file,
         ],
+        dir,
     );
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(out.status.success(), "{file}: {:?}: {stderr}", out.status);

@@ -3,8 +3,7 @@
 //! loaded and prepared on every backend. Asserts zero panics and only one-line errors naming
 //! the file; an abort (Embree) or a hang would fail the test binary as a whole.
 
-#[path = "mutate/mod.rs"]
-mod mutate;
+use crate::mutate;
 
 use rand::{Rng, SeedableRng};
 use std::path::Path;

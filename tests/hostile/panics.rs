@@ -4,28 +4,20 @@
 //! text or backtrace hint and without an output file; through `glint batch` it fails only its
 //! own job, in one line, and the other jobs render.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn demo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb")
-}
+use crate::support::{demo, glint_command, stderr};
 
 /// `glint` in `cwd` with `GLINT_TEST_PANIC=panic`, and without `RUST_BACKTRACE` (which asks
 /// the hook for a developer's backtrace).
 fn glint_panicking(args: &[&str], panic: &str, cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(cwd)
+    glint_command(args, cwd)
         .env(glint::panics::TEST_PANIC_VAR, panic)
         .env_remove("RUST_BACKTRACE")
         .env_remove("RUST_LIB_BACKTRACE")
         .output()
         .expect("run glint")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
 /// Rust's own panic text, which no user may see.

@@ -1,9 +1,7 @@
 //! Bad input through the `glint render` binary: a clear one-line error naming the file and the
 //! problem, a non-zero exit, no output file (and no temporary file), and no panic.
 
-mod gltf_fixture;
-
-use gltf_fixture::{Fixture, TempDir};
+use crate::support::{Fixture, TempDir};
 use serde_json::json;
 use std::path::Path;
 use std::process::Command;

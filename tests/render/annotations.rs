@@ -1,15 +1,14 @@
 //! Per-instance annotations: visible and amodal masks, areas, boxes and visible fractions
 //! from exact sample counts, the any-hit walk behind amodal coverage on both backends, and
 //! their determinism.
-mod render_support;
 
+use crate::support::{lambert, ortho, quad, render_with, scene};
 use glam::Vec3;
 use glint::accel::{BackendKind, Ray};
 use glint::output::instances::{InstanceAnnotation, annotate};
 use glint::render::amodal::InstanceSamples;
 use glint::render::{self, AovSelection, PixelSampling, RenderSettings};
 use glint::scene::{Camera, Scene};
-use render_support::{lambert, ortho, quad, render_with, scene};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

@@ -13,10 +13,8 @@ use glint::denoise::{self, Auxiliary};
 use glint::job::{self, EnvironmentSource, Job, JobImages, PreparedScene, RunOptions};
 use glint::render::{AovSelection, Image, RenderSettings};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-mod render_support;
-use render_support::{lambert, look_at, quad, scene};
+use crate::support::{glint, lambert, look_at, quad, scene};
 
 /// True (after saying why) when this build cannot denoise.
 fn skipped(test: &str) -> bool {
@@ -235,14 +233,6 @@ fn auxiliaries_do_not_hurt_on_a_constant_albedo_scene() {
     eprintln!("relMSE: with aux {e_aux:.5}, colour only {e_colour:.5}, noisy {e_noisy:.5}");
     assert!(e_aux <= e_colour * 1.05, "{e_aux} vs {e_colour}");
     assert!(e_aux < e_noisy, "{e_aux} vs {e_noisy}");
-}
-
-fn glint(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run glint")
 }
 
 #[test]

@@ -1,13 +1,11 @@
 //! Pixel filters: each integrates to 1 (a constant scene renders to that constant at every
 //! pixel, borders included), and a step edge renders to the filter's cumulative profile.
 
-mod render_support;
-
+use crate::support::{emitter, ortho, quad, render_with};
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::{FilterKind, FilterSpec, PixelSampling, RenderSettings};
 use glint::scene::Scene;
-use render_support::{emitter, ortho, quad, render_with};
 
 /// An orthographic camera over a `width × height` image with one scene unit per pixel,
 /// centred on the origin, looking down −Z.

@@ -9,7 +9,8 @@
 //! its sample cap, photometric `--light`s, and a batch job with a camera placed by position.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use crate::support::glint_command;
 
 /// 64-bit FNV-1a: stable across Rust versions and platforms (unlike `DefaultHasher`).
 fn fnv1a(bytes: &[u8]) -> u64 {
@@ -30,11 +31,9 @@ const HASH_ISA: &str = "sse4.2";
 
 /// Runs the glint binary with Embree's kernels pinned to `isa`.
 fn glint(args: &[&str], cwd: &Path, isa: &str) {
-    let out = Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
+    let out = glint_command(args, cwd)
         .env("GLINT_EMBREE_ISA", isa)
         .env_remove("GLINT_EMBREE_CONFIG")
-        .current_dir(cwd)
         .output()
         .expect("run glint");
     assert!(
@@ -70,7 +69,7 @@ fn hash_file(path: &Path) -> u64 {
 /// Issue 21 re-recorded every hash: these renders use the direct integrator, which now shades
 /// the same glTF BSDF as the path tracer (the surface front end, `material::at_hit`) instead of
 /// a Lambert-plus-mirror mapping, so every image changed on purpose. That the two integrators
-/// agree on the BSDF is `tests/direct_bsdf.rs`; the path tracer's own images did not change
+/// agree on the BSDF is `tests/transport/direct_bsdf.rs`; the path tracer's own images did not change
 /// where the light sampler draws the same samples (compared byte for byte before and after on
 /// the demo and Suzanne, with and without an environment; see docs/lights.md).
 ///

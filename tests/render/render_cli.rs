@@ -1,19 +1,8 @@
 //! `glint render` end to end, through the built binary.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn glint(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run glint")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use crate::support::{glint, stderr};
 
 fn files_in(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)

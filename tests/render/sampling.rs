@@ -3,14 +3,12 @@
 //! must converge as spp^−½; Owen-scrambled Sobol must converge faster and beat it at equal
 //! spp.
 
-mod render_support;
-
+use crate::support::{emitter, ortho, quad};
 use glam::{DVec2, Vec3};
 use glint::accel::BackendKind;
 use glint::converge::fit_log_slope;
 use glint::render::{self, FilterSpec, PixelSampling, RenderSettings};
 use glint::scene::Scene;
-use render_support::{emitter, ortho, quad};
 
 const WIDTH: u32 = 48;
 const HEIGHT: u32 = 48;

@@ -4,9 +4,7 @@
 //! for colour) terms; rendered images of textured scenes agree within one 8-bit output code;
 //! 16-bit images keep steps finer than 1/255; bytes per texel with the MIP chain are stated.
 
-mod common;
-
-use common::SplitMix as Rng;
+use crate::support::SplitMix as Rng;
 use glam::{Vec2, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
 use glint::render::{self, Integrator, RenderSettings};

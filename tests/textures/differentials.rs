@@ -1,8 +1,7 @@
 //! Ray differentials stay finite: at grazing angles (footprints clamped, never NaN or ∞) and
 //! through many mirror bounces, flat and curved (interpolated normals), on both backends.
 
-mod render_support;
-
+use crate::support::{all_finite, lambert, look_at, mirror, quad, render_with, scene};
 use glam::{Vec2, Vec3};
 use glint::accel::BackendKind;
 use glint::light::LightUnits;
@@ -11,7 +10,6 @@ use glint::scene::{Light, Material};
 use glint::texture::TextureFilter;
 use glint::texture::differentials::{MAX_FOOTPRINT, at_surface};
 use glint::texture::noise::{Domain, Pattern, ProceduralTexture};
-use render_support::{all_finite, lambert, look_at, mirror, quad, render_with, scene};
 
 /// Camera rays that skim a plane (down to a hair below the horizon, and exactly parallel to
 /// it) give finite footprints no longer than the clamp.

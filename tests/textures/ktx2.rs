@@ -23,9 +23,9 @@
 //! - bad inputs (truncated, wrong magic, non-Basis vkFormat, wrong supercompression, absurd
 //!   size, a DFD disagreeing with the use) give a named error or warning, never a panic.
 
-mod gltf_fixture;
-mod render_support;
+use crate::support;
 
+use crate::support::{Fixture, data_uri, png};
 use basisu_c_sys::BasisTextureFormat;
 use basisu_c_sys::common;
 use basisu_c_sys::extra::{
@@ -39,7 +39,6 @@ use glint::scene::Scene;
 use glint::scene::gltf::{LoadError, Loaded};
 use glint::scene::ktx2_decode::{Ktx2Error, decode_ktx2};
 use glint::scene::texture_decode::{ColorSpace, srgb_to_linear};
-use gltf_fixture::{Fixture, data_uri, png};
 use serde_json::{Value, json};
 
 const SIZE: u32 = 64;
@@ -307,15 +306,15 @@ fn render_quad(image: Value) -> Vec<Vec3> {
         true,
     );
     let loaded = fixture.load(rest).expect("load");
-    let camera = render_support::ortho(
+    let camera = support::ortho(
         Vec3::new(0.5, 0.5, 1.0),
         Vec3::new(0.5, 0.5, 0.0),
         Vec3::Y,
         0.5,
         0.5,
     );
-    let settings = render_support::centre_settings(SIZE, SIZE);
-    render_support::render_with(&loaded.scene, &camera, BackendKind::Bvh, &settings)
+    let settings = support::centre_settings(SIZE, SIZE);
+    support::render_with(&loaded.scene, &camera, BackendKind::Bvh, &settings)
         .image
         .pixels
 }

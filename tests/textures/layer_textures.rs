@@ -4,8 +4,7 @@
 //! black on its left half and white on its right makes the left half render like a coat of
 //! strength 0 and the right like strength 1.
 
-mod render_support;
-
+use crate::support::{centre_settings, emitter, look_at, quad, render_with};
 use glam::{Vec2, Vec3, Vec4};
 use glint::accel::BackendKind;
 use glint::render::{Integrator, RenderSettings};
@@ -14,7 +13,6 @@ use glint::scene::{
     Light, MagFilter, Material, Mesh, NormalTextureRef, Scene, Texture, TextureRef, WrapMode,
 };
 use glint::texture::TextureFilter;
-use render_support::{centre_settings, emitter, look_at, quad, render_with};
 
 const W: u32 = 16;
 

@@ -2,15 +2,12 @@
 //! texture written as a PNG here), the tangent handedness, mirrored nodes, MikkTSpace against
 //! the supplied tangents of a Khronos model, and the summary line of scenes without them.
 
-mod gltf_fixture;
-mod render_support;
-
+use crate::support::{Fixture, data_uri, png};
+use crate::support::{centre_settings, ortho, render_with};
 use glam::{Vec3, Vec4};
 use glint::accel::BackendKind;
 use glint::render::{Integrator, RenderSettings};
 use glint::scene::{Light, Scene};
-use gltf_fixture::{Fixture, data_uri, png};
-use render_support::{centre_settings, ortho, render_with};
 use serde_json::{Value, json};
 use std::path::Path;
 

@@ -4,14 +4,12 @@
 //! reflection (rule 2) and the pixel went black. With the normal bent, the mirror reflects the
 //! uniform sky: radiance exactly 1 (white metal, Fresnel 1 at every angle), on both backends.
 
-mod render_support;
-
+use crate::support::{centre_settings, mirror, ortho, quad, scene};
 use glam::Vec3;
 use glint::accel::{BackendKind, BuildOptions};
 use glint::light::environment::EnvironmentLight;
 use glint::render::{self, Integrator, RenderInputs, RenderSettings};
 use glint::scene::Mesh;
-use render_support::{centre_settings, mirror, ortho, quad, scene};
 
 /// The quad z = 0 (front +Z) with every vertex normal leaning `lean` radians toward −x, seen
 /// by an orthographic camera from +x at `elevation` radians above the plane; the centre

@@ -6,12 +6,10 @@
 //! random points and footprints, from magnified to far minified, grazing, non-finite, far from
 //! the origin (±10⁶ and beyond 2⁵² texels), on power-of-two and odd sizes, under every wrap
 //! mode, magnification filter and storage layout (8-bit grey / RGB / RGBA sRGB, 16-bit grey
-//! alpha, f32). That is what keeps the recorded image hashes (`tests/image_hashes.rs`)
+//! alpha, f32). That is what keeps the recorded image hashes (`tests/render/image_hashes.rs`)
 //! unchanged.
 
-mod common;
-
-use common::SplitMix as Rng;
+use crate::support::SplitMix as Rng;
 use glam::{DVec2, Vec2, Vec4};
 use glint::scene::texels::Texels;
 use glint::scene::texture_decode::ColorSpace;

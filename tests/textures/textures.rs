@@ -3,8 +3,7 @@
 //! decoding, procedural textures from `extras`, and the aliasing order of the filters on the
 //! checker-plane scene (both backends).
 
-mod render_support;
-
+use crate::support::look_at;
 use glam::{Vec2, Vec3, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
 use glint::render::{self, CameraRays, Image, RenderSettings};
@@ -14,7 +13,6 @@ use glint::texture::differentials::{at_surface, attribute_derivative, barycentri
 use glint::texture::filter::isotropic_lod;
 use glint::texture::image::{TexelGrid, Wrap};
 use glint::texture::{MipMap, TextureFilter, UvFootprint, lookup};
-use render_support::look_at;
 use std::path::Path;
 
 /// A plane y = 0 seen from height h, pitched down by α: at the image centre the pixel's

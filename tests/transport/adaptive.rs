@@ -3,15 +3,12 @@
 //! sampling at equal total samples on a scene with a converged background and a noisy object,
 //! and the same seed gives the same image on 1 and 2 threads.
 
-mod light_support;
-mod render_support;
-
+use crate::support::mean_and_error;
+use crate::support::{emitter, image_bits, lambert, look_at, quad, scene};
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderOutput, RenderSettings};
 use glint::scene::{Camera, Light, Scene};
-use light_support::mean_and_error;
-use render_support::{emitter, image_bits, lambert, look_at, quad, scene};
 
 /// A grey floor lit by a point light (noise-free: its pixels converge at once) and, over its
 /// middle, a grey card with a small bright lamp just above it that only BSDF sampling finds

@@ -11,15 +11,13 @@
 //! - Embree and the BVH give the same images, and BLEND images do not depend on the thread
 //!   count.
 
-mod render_support;
-
+use crate::support::*;
 use glam::{Affine2, DVec3, Vec2, Vec3, Vec4};
 use glint::accel::BackendKind;
 use glint::render::{Integrator, RenderOutput, RenderSettings};
 use glint::scene::{
     AlphaMode, Camera, Light, MagFilter, Material, Mesh, Scene, Texture, TextureRef, WrapMode,
 };
-use render_support::*;
 
 /// Irradiance of the directional light on a surface facing it, W/m².
 const E: f32 = 2.0;

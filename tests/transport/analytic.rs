@@ -1,14 +1,12 @@
 //! Closed-form radiometry: every checked pixel (1 spp at its centre) must equal the analytic
 //! radiance at the exact hit point of its camera ray, to relative error 1e-4, on every backend.
 
-mod render_support;
-
+use crate::support::*;
 use glam::{DVec3, Vec3};
 use glint::accel::BackendKind;
 use glint::light::{LUMENS_PER_WATT, LightUnits};
 use glint::render::RenderOutput;
 use glint::scene::{Camera, Light};
-use render_support::*;
 use std::f64::consts::PI;
 
 const TOL: f64 = 1e-4;

@@ -2,11 +2,9 @@
 //! solid angle as E[1/pdf], `pdf()` against the density `sample` used, selection frequencies
 //! by power, one- and two-sided emission, and bad input.
 
-mod light_support;
-
+use crate::support::{chi_square, chi_square_threshold, mean_and_error};
 use glam::{Vec2, Vec3};
 use glint::light::area::{AreaLightError, AreaLights, EmitterMesh, SelectionMode};
-use light_support::{chi_square, chi_square_threshold, mean_and_error};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::f64::consts::PI;

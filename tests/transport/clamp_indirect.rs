@@ -2,13 +2,11 @@
 //! every contribution changes no byte, and a low limit darkens only what arrives through two
 //! or more bounces.
 
-mod render_support;
-
+use crate::support::{emitter, lambert, look_at, quad, scene};
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::{self, Integrator, PixelSampling, RenderOutput, RenderSettings};
 use glint::scene::{Camera, Light, Scene};
-use render_support::{emitter, lambert, look_at, quad, scene};
 
 /// A grey floor under a point light and a bright emitting panel beside it: direct light from
 /// both, indirect light bouncing between the floor and a grey wall.

@@ -7,14 +7,12 @@
 //! path tracer's estimate is its light sample alone, the same number the direct integrator
 //! computes: the two images must agree to rounding, for the plain and the coated material.
 
-mod render_support;
-
+use crate::support::{centre_settings, look_at, quad, render_with, scene};
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::{Integrator, RenderSettings};
 use glint::scene::layers::Clearcoat;
 use glint::scene::{Light, Material};
-use render_support::{centre_settings, look_at, quad, render_with, scene};
 
 fn plain() -> Material {
     Material {

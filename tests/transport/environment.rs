@@ -2,14 +2,12 @@
 //! pdf, a single bright texel as a directional light, and file loading (EXR incl. DWAB, HDR)
 //! with its errors.
 
-mod light_support;
-
+use crate::support::{chi_square, chi_square_threshold, mean_and_error};
 use glam::{Vec2, Vec3};
 use glint::light::environment::{
     EnvImage, EnvOptions, EnvironmentError, EnvironmentLight, Interpolation, SUPERSAMPLING,
     read_env_image,
 };
-use light_support::{chi_square, chi_square_threshold, mean_and_error};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::f32::consts::{PI, TAU};

@@ -7,12 +7,10 @@
 //! A pixel that sees the lit plane must get the closed-form light: never 0 (a wrongly shadowed
 //! pixel), and equal to the closed form within a tolerance derived from f32 position error.
 
-mod render_support;
-
+use crate::support::*;
 use glam::{EulerRot, Quat, Vec3};
 use glint::render::{AovSelection, RenderOutput, RenderSettings};
 use glint::scene::{Camera, Light, Mesh, Scene};
-use render_support::*;
 use std::f64::consts::PI;
 
 const RHO: Vec3 = Vec3::new(0.7, 0.6, 0.5);

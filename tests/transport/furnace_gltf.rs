@@ -10,8 +10,7 @@
 //! must be clearly darker: single-scatter GGX loses the light that bounces between microfacets,
 //! which proves the option changes the model.
 
-mod render_support;
-
+use crate::support::{Furnace, look_at, ortho, quad, scene, white_furnace};
 use glam::{Vec2, Vec3, Vec4};
 use glint::accel::BackendKind;
 use glint::bsdf::SheenBsdf;
@@ -19,7 +18,6 @@ use glint::bsdf::sheen::{directional_albedo, sheen_albedo};
 use glint::render::{BrdfModel, Image};
 use glint::scene::layers::{Clearcoat, Sheen, Transmission, Volume};
 use glint::scene::{Material, Mesh};
-use render_support::{Furnace, look_at, ortho, quad, scene, white_furnace};
 
 /// Image side in pixels; the sphere's disc spans `SIZE · RADIUS_IN_VIEW` of it.
 const SIZE: u32 = 48;

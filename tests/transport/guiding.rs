@@ -4,17 +4,16 @@
 //! their standard errors; guiding lowers the noise where only BSDF sampling finds the light;
 //! and the image is the same for any thread count.
 
-mod light_support;
-mod render_support;
+use crate::support;
 
+use crate::support::chi_square;
+use crate::support::{image_bits, ortho, quad, scene};
 use glam::{Vec2, Vec3, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
 use glint::guiding::directional::{BINS, from_map};
 use glint::guiding::{Directional, Record, Trainer};
 use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderInputs, RenderSettings};
 use glint::scene::{Camera, Material, Scene};
-use light_support::chi_square;
-use render_support::{image_bits, ortho, quad, scene};
 use std::f64::consts::PI;
 
 /// The χ² quantile at 1 − 1e-4 (Wilson–Hilferty).
@@ -245,7 +244,7 @@ fn estimate(scene: &Scene, camera: &Camera, base: &RenderSettings, seeds: u64) -
         .iter()
         .map(|im| im.iter().sum::<f64>() / im.len() as f64)
         .collect();
-    let (mean, error) = light_support::mean_and_error(&means);
+    let (mean, error) = support::mean_and_error(&means);
     let k = seeds as f64;
     let pixels = images[0].len();
     let noise = (0..pixels)

@@ -6,7 +6,7 @@
 //! sampler estimates (one light per sample, divided by its probability or density) must equal
 //! the sum of each light's own contribution: closed forms for the delta lights
 //! (`PunctualLight::incident`) and the environment (`π L`), and the emissive mesh estimated
-//! apart by its own sampler (tested in tests/area_lights.rs) with many more samples. 4σ.
+//! apart by its own sampler (tested in tests/transport/area_lights.rs) with many more samples. 4σ.
 
 use glam::{Vec2, Vec3};
 use glint::light::area::{AreaLights, EmitterMesh};

@@ -4,13 +4,11 @@
 //! emitter seen directly shows Le and in the mirror F·Le. Also: the specialised kernel gives
 //! the general kernel's image.
 
-mod render_support;
-
+use crate::support::*;
 use glam::{DVec3, Vec2, Vec3, Vec4};
 use glint::accel::{BackendKind, Ray};
 use glint::render::{KernelChoice, RenderOutput, RenderSettings};
 use glint::scene::{Camera, Light, MagFilter, Material, Scene, Texture, TextureRef, WrapMode};
-use render_support::*;
 use std::f64::consts::PI;
 
 const TOL: f64 = 1e-4;

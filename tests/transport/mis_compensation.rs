@@ -3,14 +3,12 @@
 //! (with the full distribution), BSDF sampling alone, MIS with the full distribution and MIS
 //! with the compensated one agree within 4σ over independent seeds.
 
-mod render_support;
-
+use crate::support::{look_at, quad, scene};
 use glam::{Vec3, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
 use glint::light::environment::{EnvImage, EnvOptions, EnvironmentLight};
 use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderInputs, RenderSettings};
 use glint::scene::{Camera, Material, Scene};
-use render_support::{look_at, quad, scene};
 
 /// A 32 × 16 map: a smooth gradient with three small bright lamps, one saturated.
 fn lamps_on_a_gradient() -> EnvironmentLight {

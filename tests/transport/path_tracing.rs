@@ -8,14 +8,14 @@
 //! asserts that the bound is tight (a few 10⁻³ relative at most), so a bias larger than that
 //! cannot hide in the noise; image means, which average many pixels, are held to 10⁻³.
 
-mod render_support;
+use crate::support;
 
+use crate::support::{image_bits, look_at, ortho, quad, scene};
 use glam::{Vec3, Vec4};
 use glint::accel::{BackendKind, BuildOptions};
 use glint::light::environment::EnvironmentLight;
 use glint::render::{self, Integrator, LightStrategy, PixelSampling, RenderInputs, RenderSettings};
 use glint::scene::{Camera, Material, Mesh, Scene};
-use render_support::{image_bits, look_at, ortho, quad, scene};
 
 /// Standard errors a pixel may lie from the closed form.
 const Z: f64 = 5.0;
@@ -310,7 +310,7 @@ fn coverage_alpha_is_the_fraction_of_samples_that_hit() {
     );
     let s = scene(
         vec![quad_mesh],
-        vec![render_support::lambert(Vec3::splat(0.5), true)],
+        vec![support::lambert(Vec3::splat(0.5), true)],
         vec![],
     );
     let camera = ortho(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);

@@ -5,7 +5,7 @@
 //! The scene is a well: a white floor at the bottom of four white walls, open at the top,
 //! under a uniform environment of radiance 1. Every surface is white and single-sided, a rough
 //! dielectric (metallic 0, roughness 1) or a rough metal (metallic 1, roughness 0.5), whose
-//! energy-compensated BRDFs reflect exactly 1 (tests/furnace_gltf.rs), and the walls face
+//! energy-compensated BRDFs reflect exactly 1 (tests/transport/furnace_gltf.rs), and the walls face
 //! outward, so the floor sees only their back faces: 4/5 of its cosine-weighted view. Radiance
 //! is then 1 everywhere, as in a well whose walls are double-sided. A back face that absorbed,
 //! as glint's did before, left the floor at 0.21 (dielectric) and 0.47 (metal). Path tracer, 32
@@ -18,15 +18,12 @@
 //! heavy-tailed (single pixels far above 1 at 64 spp, with or without this rule), which no
 //! 1 % test at a test's sample count can hold.
 
-mod light_support;
-mod render_support;
-
+use crate::support::mean_and_error;
+use crate::support::{Furnace, ortho, quad, scene, white_furnace};
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::BrdfModel;
 use glint::scene::{Material, Mesh};
-use light_support::mean_and_error;
-use render_support::{Furnace, ortho, quad, scene, white_furnace};
 
 /// Image side in pixels; the view spans the floor exactly.
 const SIZE: u32 = 48;

@@ -4,14 +4,12 @@
 //! is exactly `Le · exp(−σ d)` with `σ = −ln(attenuationColor) / attenuationDistance`; without
 //! the volume (thin-walled) it is `Le`.
 
-mod render_support;
-
+use crate::support::{centre_settings, emitter, ortho, quad, render_with, scene};
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::{Integrator, RenderSettings};
 use glint::scene::Material;
 use glint::scene::layers::{Transmission, Volume};
-use render_support::{centre_settings, emitter, ortho, quad, render_with, scene};
 
 fn glass(volume: Option<Volume>) -> Material {
     Material {
