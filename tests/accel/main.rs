@@ -6,7 +6,6 @@ mod support;
 
 mod backend_agreement;
 mod bench_smoke;
-mod embree_lifetimes;
 mod embree_shim;
 mod embree_version;
 mod instancing;
