@@ -1,7 +1,8 @@
 #!/bin/bash
+# measurement: one `glint batch` against K `glint render` processes (docs/batch.md). Run: tools/batch-vs-render.sh SCENE K WIDTH HEIGHT SPP
 # K small jobs on one scene: one `glint batch` against K `glint render` processes doing the
 # same renders (default camera, seeds 1..K). Prints wall time and peak RSS (/usr/bin/time).
-# Usage: scripts/batch-vs-render.sh SCENE K WIDTH HEIGHT SPP   (GLINT=path picks the binary)
+# Usage: tools/batch-vs-render.sh SCENE K WIDTH HEIGHT SPP   (GLINT=path picks the binary)
 set -e
 G=$(realpath "${GLINT:-target/release/glint}")
 SCENE=$(realpath "$1"); K=$2; W=$3; H=$4; SPP=$5

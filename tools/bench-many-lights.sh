@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
+# measurement: time per sample with 64 point lights against 1 (docs/lights.md). Run: tools/bench-many-lights.sh [GLINT_BINARY] [RUNS]
 # Time per sample with 64 point lights against 1 (issue 21): renders a shared scene under
 # lights given with --lights (64 random point lights of total intensity 32 W/sr, or one of
 # 32 W/sr), path tracer, alternating the two, and prints the median render-call time of each
 # (the "rendered in" of the summary line, load excluded) and their ratio.
-# Usage: scripts/bench-many-lights.sh [GLINT_BINARY] [RUNS]
+# Usage: tools/bench-many-lights.sh [GLINT_BINARY] [RUNS]
 set -euo pipefail
 glint=${1:-target/release/glint}
 runs=${2:-5}

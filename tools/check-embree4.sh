@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# developer check, run by scripts/test.sh: glint builds and passes its tests on Embree 4. Run: tools/check-embree4.sh (GLINT_EMBREE4_CHECK=0 scripts/test.sh skips it)
 # Proves glint's Embree 4 path on a machine whose system Embree is 3 (Debian 12), with nothing
 # installed system-wide, on headers and a library of ONE Embree 4 release and build
 # configuration (4.3.3 with instance arrays, one instance level), each pinned by its sha256 so
@@ -19,9 +20,9 @@
 #      backend_agreement and the library's unit tests. The test binaries find libembree4
 #      through their rpath: LD_LIBRARY_PATH is cleared.
 #
-# Usage: scripts/check-embree4.sh [ARGS...]   ARGS go to every test binary, e.g.
-#        scripts/check-embree4.sh --skip shared_assets_agree
-#        EMBREE4_CHECK_C_ONLY=1 scripts/check-embree4.sh   stops after step 4: the C-level
+# Usage: tools/check-embree4.sh [ARGS...]   ARGS go to every test binary, e.g.
+#        tools/check-embree4.sh --skip shared_assets_agree
+#        EMBREE4_CHECK_C_ONLY=1 tools/check-embree4.sh   stops after step 4: the C-level
 #        checks alone, without cargo (glint itself is then neither built nor tested).
 # Downloads are cached in .embree4/ (git-ignored) and checked against their pinned sha256 on
 # every run, and the build goes to target/embree4 (or EMBREE4_TARGET_DIR), so a rerun is fast
@@ -231,28 +232,30 @@ export CARGO_TARGET_DIR="$TARGET_DIR"
 export EMBREE_INCLUDE_DIR="$INCLUDE" EMBREE_LIB_DIR="$LIB_DIR" EMBREE_LIB="$LIB_FILE"
 export GLINT_EXPECT_EMBREE_MAJOR=4
 unset EMBREE_DIR LD_LIBRARY_PATH
-tests=(--lib)
-for t in embree_version embree_shim embree_lifetimes backend_agreement; do
-    if [ -f "$ROOT/tests/$t.rs" ]; then
-        tests+=(--test "$t")
+# The Embree tests: tests/embree_lifetimes.rs (a binary of its own: it counts process-wide
+# handles) and three modules of the accel test binary (tests/accel/).
+modules=()
+for t in embree_version embree_shim backend_agreement; do
+    if [ -f "$ROOT/tests/accel/$t.rs" ]; then
+        modules+=("$t::")
     else
-        echo "note: tests/$t.rs is not in this branch; skipped"
+        echo "note: tests/accel/$t.rs is not in this branch; skipped"
     fi
 done
 cd "$ROOT"
-cargo test --locked --no-run "${tests[@]}" || die "glint does not build against Embree 4"
+cargo test --locked --no-run --lib --test accel --test embree_lifetimes || die "glint does not build against Embree 4"
 # The binary really links the wheel's library, found through the rpath build.rs set. (Not
 # embree_version's: it calls only the shim's compile-time constants, so the linker drops
-# libembree from it; embree_shim builds scenes.)
-bin="$(cargo test --locked --no-run --test embree_shim --message-format=json 2>/dev/null |
+# libembree from it; embree_shim builds scenes, in the same accel binary.)
+bin="$(cargo test --locked --no-run --test accel --message-format=json 2>/dev/null |
     python3 -c 'import json, sys
 for line in sys.stdin:
     m = json.loads(line)
-    if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["name"] == "embree_shim":
+    if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["name"] == "accel":
         print(m["executable"])')"
-[ -n "$bin" ] || die "could not locate the embree_shim test binary"
+[ -n "$bin" ] || die "could not locate the accel test binary"
 resolved="$(ldd "$bin" | grep -E 'libembree' || true)"
-echo "embree_shim links: ${resolved#"${resolved%%[![:space:]]*}"}"
+echo "accel (embree_shim) links: ${resolved#"${resolved%%[![:space:]]*}"}"
 case "$resolved" in
 *"$LIB_DIR/$LIB_FILE"*) ;;
 *) die "the test binary does not resolve libembree4 to $LIB_DIR/$LIB_FILE" ;;
@@ -260,8 +263,10 @@ esac
 step "glint's tests on Embree 4"
 # One test at a time: embree_lifetimes compares a process-wide handle count, which concurrent
 # builds in sibling tests would disturb.
-cargo test --locked --no-fail-fast "${tests[@]}" -- --test-threads=1 "$@" ||
-    die "glint's tests failed on Embree 4"
+cargo test --locked --no-fail-fast --lib --test embree_lifetimes -- --test-threads=1 "$@" ||
+    die "glint's unit tests or embree_lifetimes failed on Embree 4"
+cargo test --locked --no-fail-fast --test accel -- "${modules[@]}" --test-threads=1 "$@" ||
+    die "glint's Embree tests failed on Embree 4"
 
 step "summary"
 echo "Embree 4 path verified: headers $HEADER_VERSION (libembree-dev $EMBREE4_DEB_VERSION), library $LIB_FILE (raybender $RAYBENDER_VERSION), in $((SECONDS - started)) s"

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# developer check, run by scripts/test.sh: the Python package builds and passes python/tests/. Run: tools/check-python.sh (GLINT_PYTHON_CHECK=0 scripts/test.sh skips it)
 # Builds the Python package (python/) into a venv and runs its pytest suite (python/tests/):
 # renders from Python against the command line's EXRs (bit for bit), AOV shapes and dtypes,
 # exact IDs and coverage of a scene of known layout, errors, the GIL and Ctrl-C.

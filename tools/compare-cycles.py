@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# measurement: glint against Cycles at equal error, the speed table of docs/speed.md. Run: target/tools-venv/bin/python tools/compare-cycles.py run --out DIR; then ... table --out DIR
 """glint's path tracer against Blender Cycles at equal error (issue 12's speed table).
 
 Renders each model with both renderers at several spp and two seeds, under the studio HDRI with
@@ -14,7 +15,7 @@ Renders each model with both renderers at several spp and two seeds, under the s
   load and sampling; Python start-up, `import bpy` and the glTF import excluded) and glint's
   "rendered in" time (sampling only; load, BVH and MIP chains excluded). Both are wall times.
   For Cycles also `render_cpu_s`: the CPU time (user + sys, every thread) of that same render
-  call, measured by scripts/cycles_timed.py, which runs ../shared/peers/cycles_render.py
+  call, measured by tools/cycles_timed.py, which runs ../shared/peers/cycles_render.py
   unchanged. glint rows leave `render_cpu_s` empty: issue 23 times glint's whole process
   (`cpu_s`), so no render-call CPU is measured for it.
 * issue 23's time: Cycles' render call against glint's whole process, both in CPU time, i.e.
@@ -31,8 +32,8 @@ Renders each model with both renderers at several spp and two seeds, under the s
 
 Usage (from the repository root; the venv needs bpy, numpy, OpenEXR):
 
-    /work/bpyvenv/bin/python scripts/compare-cycles.py run --out /tmp/speed [--models ...]
-    /work/bpyvenv/bin/python scripts/compare-cycles.py table --out /tmp/speed > table.md
+    /work/bpyvenv/bin/python tools/compare-cycles.py run --out /tmp/speed [--models ...]
+    /work/bpyvenv/bin/python tools/compare-cycles.py table --out /tmp/speed > table.md
 
 `run` appends one CSV row per render to OUT/runs.csv and skips renders whose row exists, so it
 can be interrupted and resumed. `table` prints the Markdown tables of docs/speed.md.
@@ -99,9 +100,9 @@ def timed(cmd):
 
 
 def render_cycles(args, model, spp, seed, image, extra=()):
-    """Renders through scripts/cycles_timed.py (cycles_render.py unchanged, plus the render
+    """Renders through tools/cycles_timed.py (cycles_render.py unchanged, plus the render
     call's CPU); returns (wall s, CPU s of the process, render call wall s, render call CPU s)."""
-    cmd = [args.python, os.path.join(ROOT, "scripts/cycles_timed.py"), MODELS[model], image,
+    cmd = [args.python, os.path.join(ROOT, "tools/cycles_timed.py"), MODELS[model], image,
            "--materials", "native", "--env", os.path.join(SHARED, "env/studio.exr"),
            "--env-strength", "1", "--bounces", "8", "--animation", "off",
            "--width", str(args.width), "--height", str(args.width), "--spp", str(spp),

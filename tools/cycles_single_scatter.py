@@ -1,11 +1,12 @@
+# measurement: a Cycles golden with single-scatter GGX, to tell energy compensation from bugs (docs/materials.md). Run: target/tools-venv/bin/python tools/cycles_single_scatter.py MODEL OUT.exr [options]
 """Runs ../shared/peers/cycles_render.py with every Principled BSDF switched from Cycles'
 default multiscatter GGX to single-scatter GGX, the glTF spec's (Appendix B) microfacet model,
 to tell Cycles' energy compensation apart from glint bugs:
 
-    /work/bpyvenv/bin/python scripts/cycles_single_scatter.py MODEL OUT.exr <cycles_render.py options>
+    /work/bpyvenv/bin/python tools/cycles_single_scatter.py MODEL OUT.exr <cycles_render.py options>
 
 (the options of the goldens are in ../shared/khronos/README.md). Then
-`scripts/fidelity.py --golden 'DIR/{model}.exr' MODEL` compares glint with it. Reads the
+`tools/fidelity.py --golden 'DIR/{model}.exr' MODEL` compares glint with it. Reads the
 peer script from ../shared; writes only OUT.exr."""
 import importlib.util
 import os

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
+# measurement: a Cycles golden with one glTF rule its importer skips put back (docs/materials.md). Run: target/tools-venv/bin/python tools/cycles_spec_variant.py RULE MODEL OUT.exr [options]
 """Renders a Cycles golden with one glTF rule that Blender's importer does not follow put back,
 to show which part of a gap between glint and a golden is that rule (issue 22).
 
-    VENV/bin/python scripts/cycles_spec_variant.py RULE MODEL OUT.exr [cycles_render.py options]
+    VENV/bin/python tools/cycles_spec_variant.py RULE MODEL OUT.exr [cycles_render.py options]
 
 RULE is one of
   cull-single-sided   back faces of single-sided materials (doubleSided false) are transparent

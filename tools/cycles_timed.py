@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
+# measurement: the CPU time of Cycles' render call, for docs/speed.md. Run: target/tools-venv/bin/python tools/cycles_timed.py SCENE OUT.exr [options]
 """Runs ../shared/peers/cycles_render.py unchanged and measures the CPU time of its render call.
 
-    /work/bpyvenv/bin/python scripts/cycles_timed.py SCENE OUT.exr [cycles_render.py's options]
+    /work/bpyvenv/bin/python tools/cycles_timed.py SCENE OUT.exr [cycles_render.py's options]
 
 Every argument goes to cycles_render.py as it is; the image and the peer's own JSON line on
 stdout are what a direct run gives (same seed, same pixels). After that line this wrapper prints

@@ -1,19 +1,19 @@
 #!/usr/bin/env python3
-"""Measures glint against the Cycles goldens of ../shared/khronos (the fidelity table in docs/materials.md).
+# measurement: renders the Khronos models and scores them against their Cycles goldens (docs/materials.md). Run: target/tools-venv/bin/python tools/fidelity.py [--spp 256] [MODEL ...]
+"""Fidelity in one command: renders every Khronos model that has a Cycles golden and scores the renders.
 
-    PY=target/fidelity-venv/bin/python   # python3 -m venv target/fidelity-venv
-    $PY -m pip install numpy openexr      # once
-    $PY scripts/fidelity.py [--spp 64] [--glint target/debug/glint] [MODEL ...]
+    tools/python-venv.sh                    # once: target/tools-venv (tools/requirements.txt)
+    target/tools-venv/bin/python tools/fidelity.py [--spp 256] [--glint target/release/glint] \\
+        [--out DIR] [MODEL ...]
 
-Each model is rendered as the table in docs/materials.md states:
-    glint render MODEL --env ../shared/env/studio.exr --max-depth 8 --spp 64 --seed 1 \\
-        --threads 2 --width W --height H -o OUT.exr
-with W×H the golden's size, then compared with `cycles.exr` on 8×8 block means:
-  mean        = glint's image mean / Cycles' image mean (all channels),
-  block error = mean |glint block − Cycles block| over all 8×8 blocks and channels,
-                divided by Cycles' image mean.
-Prints one Markdown table row per model (notes left empty) and writes nothing else but the
-renders, into a temporary directory.
+Each model is rendered at its golden's size with the goldens' settings (../shared/khronos/README.md):
+    glint render MODEL --integrator path --env ../shared/env/studio.exr --env-strength 1 \\
+        --max-depth 8 --spp SPP --seed 1 --threads 2 --width W --height H -o OUT/MODEL.exr
+Prints one Markdown row per model against `cycles.exr` on the whole image (mean ratio and mean
+8×8 block error), then runs ../shared/fidelity/score.py on the renders: the project's measure
+(object pixels, mean within 5 %, 8×8 block relative RMSE <= 0.10), which is what the fidelity
+table in docs/materials.md reports. Exits non-zero when a render fails or score.py does.
+The renders go to --out (kept) or to a temporary folder (removed).
 """
 import argparse
 import os
@@ -29,6 +29,7 @@ import Imath
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 KHRONOS = os.path.join(ROOT, "..", "shared", "khronos")
 ENV = os.path.join(ROOT, "..", "shared", "env", "studio.exr")
+SCORE = os.path.join(ROOT, "..", "shared", "fidelity", "score.py")
 
 
 def read_rgb(path):
@@ -58,8 +59,9 @@ def model_file(name):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--spp", type=int, default=64)
-    ap.add_argument("--glint", default=os.path.join(ROOT, "target", "debug", "glint"))
+    ap.add_argument("--spp", type=int, default=256)
+    ap.add_argument("--glint", default=os.path.join(ROOT, "target", "release", "glint"))
+    ap.add_argument("--out", default=None, help="keep the renders in this folder")
     ap.add_argument("--golden", default=None,
                     help="compare against this EXR instead of cycles.exr; {model} is replaced "
                          "by the model's name (e.g. a Cycles variant rendered for a check)")
@@ -70,7 +72,11 @@ def main():
     )
     print("| model | mean | block error |")
     print("|---|---|---|")
+    failed = False
     with tempfile.TemporaryDirectory(prefix="glint-fidelity-") as tmp:
+        if args.out:
+            os.makedirs(args.out, exist_ok=True)
+            tmp = args.out
         for name in names:
             model = model_file(name)
             golden_path = (args.golden.replace("{model}", name) if args.golden
@@ -78,13 +84,15 @@ def main():
             golden = read_rgb(golden_path)
             h, w = golden.shape[:2]
             out = os.path.join(tmp, name + ".exr")
-            cmd = [args.glint, "render", model, "--env", ENV, "--max-depth", "8",
+            cmd = [args.glint, "render", model, "--integrator", "path", "--env", ENV,
+                   "--env-strength", "1", "--max-depth", "8",
                    "--spp", str(args.spp), "--seed", "1", "--threads", "2",
                    "--width", str(w), "--height", str(h), "-q", "-o", out]
             t = time.time()
             r = subprocess.run(cmd, capture_output=True, text=True)
             if r.returncode != 0:
                 print(f"| {name} | failed | {r.stderr.strip().splitlines()[-1:]} |", flush=True)
+                failed = True
                 continue
             img = read_rgb(out)
             if img.shape != golden.shape:
@@ -95,6 +103,9 @@ def main():
             err = np.abs(block_means(img) - block_means(golden)).mean() / cm
             print(f"| {name} | {ratio:.3f} | {100 * err:.1f} % |", flush=True)
             print(f"{name}: {time.time() - t:.0f} s", file=sys.stderr, flush=True)
+        print(flush=True)
+        scored = subprocess.run([sys.executable, SCORE, tmp]).returncode
+    sys.exit(1 if failed or scored != 0 else 0)
 
 
 if __name__ == "__main__":

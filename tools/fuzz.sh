@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
+# developer check: the stable-toolchain fuzz loop for a time budget (docs/hostile-input.md). Run: tools/fuzz.sh SECONDS [RNG_SEED]
 # Runs the stable-toolchain fuzz loop (examples/fuzz_loader.rs) for SECONDS seconds in all and
 # reports the executions and every crash file. A run that dies (an abort inside Embree, a hang
 # killed by the watchdog, an out-of-memory kill) keeps its input as a crash and the loop goes
 # on with the next RNG seed until the time is spent.
-# Usage: scripts/fuzz.sh SECONDS [RNG_SEED]
+# Usage: tools/fuzz.sh SECONDS [RNG_SEED]
 # Exit status: 0 when no crash was found, 1 otherwise.
 set -uo pipefail
 cd "$(dirname "$0")/.."
-seconds="${1:?usage: scripts/fuzz.sh SECONDS [RNG_SEED]}"
+seconds="${1:?usage: tools/fuzz.sh SECONDS [RNG_SEED]}"
 seed="${2:-$(date +%s)}"
 crash_dir=fuzz-crashes
 cargo build --release --locked --example fuzz_loader || exit 2

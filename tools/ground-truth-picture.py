@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# docs picture: draws docs/images/ground-truth-flow.png (docs/ground-truth.md). Run: target/tools-venv/bin/python tools/ground-truth-picture.py FRAME.exr SIDECAR.json OUT.png
 """Draws docs/images/ground-truth-flow.png: one frame of InterpolationTest (a render, its
 visible and amodal masks decoded from the sidecar with pycocotools, and its forward flow as
 colour: hue the direction, saturation the length, grey where the flow is NaN).
@@ -7,7 +8,7 @@ colour: hue the direction, saturation the length, grey where the flow is NaN).
         --time 1.2 --width 480 --height 270 --spp 16 --env ../shared/env/studio.exr --sidecar \
         --annotations --aov z,position,flow,flow_backward,instance_id --flow-dt 0.1
     glint check-gt f.exr
-    PY scripts/ground-truth-picture.py f.exr f.json docs/images/ground-truth-flow.png
+    PY tools/ground-truth-picture.py f.exr f.json docs/images/ground-truth-flow.png
 
 PY: a Python with numpy, OpenEXR (3.x), pillow and pycocotools.
 """

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
+# measurement input: a glTF drawing a model COUNT times with EXT_mesh_gpu_instancing (docs/instancing.md). Run: target/tools-venv/bin/python tools/instanced-scene.py MODEL.gltf COUNT OUT_DIR
 """Writes a glTF that draws a model COUNT times with EXT_mesh_gpu_instancing.
 
-usage: scripts/instanced-scene.py MODEL.gltf COUNT OUT_DIR
+usage: tools/instanced-scene.py MODEL.gltf COUNT OUT_DIR
 
 Every node with a mesh gets the extension: copies on a square grid on the XZ plane of the
 node's own frame (the node's transform applies after the instance's), 1.5 model

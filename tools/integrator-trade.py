@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# measurement: error against time of the path and direct integrators (docs/render.md). Run: target/tools-venv/bin/python tools/integrator-trade.py --out DIR [--model MODEL]
 """Error against time of glint's two integrators, `--integrator path` and `--integrator direct`.
 
 Both render the same model under the same light (default: the studio HDRI) at several spp, two
@@ -11,7 +12,7 @@ denominator), the part that more samples remove. Seconds are glint's own "render
 (sampling only; scene load, BVH and MIP chains excluded) and the process CPU time (user + sys,
 /usr/bin/time), medians of the seeds.
 
-    python3 scripts/integrator-trade.py --out /tmp/trade --model ../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf
+    python3 tools/integrator-trade.py --out /tmp/trade --model ../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf
 
 Needs numpy and OpenEXR (e.g. the bpy venv's Python). Prints a Markdown table.
 """

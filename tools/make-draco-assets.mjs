@@ -1,9 +1,10 @@
+// test data: writes the Draco fixtures in tests/draco/ with Google's encoder. Run: node tools/make-draco-assets.mjs ../shared/khronos tests/draco
 // Writes Draco-compressed variants of the shared Khronos Box and Duck with Google's Draco
-// encoder (the draco3dgltf package) through glTF-Transform, for tests/draco.rs.
+// encoder (the draco3dgltf package) through glTF-Transform, for tests/gltf/draco.rs.
 // Usage (from the repository root):
 //   npm install --prefix .tools @gltf-transform/core@4.5.1 @gltf-transform/extensions@4.5.1 \
 //       @gltf-transform/functions@4.5.1 draco3dgltf@1.5.7
-//   node scripts/make-draco-assets.mjs ../shared/khronos tests/draco
+//   node tools/make-draco-assets.mjs ../shared/khronos tests/draco
 // The encoder's defaults: POSITION 14 bits, NORMAL 10, TEXCOORD 12, edgebreaker.
 import { createRequire } from 'module';
 import path from 'path';

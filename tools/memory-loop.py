@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# measurement: resident memory across a long loop of renders in one Python process (docs/python.md). Run: target/pyvenv/bin/python tools/memory-loop.py [--renders 1000] [SCENE]
 """Resident memory across a long loop of renders in one Python process.
 
 Loads one scene and renders N small jobs (different seeds and cameras, every AOV, so that
@@ -6,7 +7,7 @@ each render allocates and frees its film, AOVs and numpy arrays), printing the r
 size after 10 renders and after N. A leak of even a few KiB per render shows as growth
 between the two. A measurement, not a test: docs/instancing.md quotes its figure.
 
-    target/pyvenv/bin/python scripts/memory-loop.py [--renders 1000] [SCENE]
+    target/pyvenv/bin/python tools/memory-loop.py [--renders 1000] [SCENE]
 """
 
 import argparse
