@@ -11,7 +11,7 @@ use glint::render::{AovSelection, RenderInputs, RenderSettings, render};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use crate::support::{demo, glint, stderr};
+use crate::support::{batch_report as report, demo, glint, job_statuses, stderr};
 
 /// A job file of `2 + 3·2` tiny jobs on the demo scene: two plain jobs and a sweep.
 fn job_file(dir: &Path) -> PathBuf {
@@ -41,23 +41,9 @@ orbit = {{ frames = 3, center = [0, 0.5, 0], radius = 4, height = 1 }}
     path
 }
 
-fn report(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
 /// (index, status) of each job in a report.
 fn statuses(report: &serde_json::Value) -> Vec<(u64, String)> {
-    report["jobs"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|j| {
-            (
-                j["index"].as_u64().unwrap(),
-                j["status"].as_str().unwrap().to_string(),
-            )
-        })
-        .collect()
+    job_statuses(report)
 }
 
 #[test]

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use crate::support::{demo, glint_command};
+use crate::support::{batch_report, demo, glint_command, job_statuses};
 
 fn command(args: &[&str], cwd: &Path, no_flock: bool) -> Command {
     let mut command = glint_command(args, cwd);
@@ -43,19 +43,7 @@ fn jobs(dir: &Path, n: usize) -> PathBuf {
 }
 
 fn statuses(path: &Path) -> BTreeMap<u64, String> {
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    report["jobs"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|j| {
-            (
-                j["index"].as_u64().unwrap(),
-                j["status"].as_str().unwrap().to_string(),
-            )
-        })
-        .collect()
+    job_statuses(&batch_report(path)).into_iter().collect()
 }
 
 /// Runs two batches side by side and checks each job was rendered by exactly one.

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Instant;
 
-use crate::support::{demo, glint_command, stderr};
+use crate::support::{batch_report as report, demo, glint_command, job_statuses, stderr};
 
 /// Environment variables `--shard auto` reads: cleared for every child, so that a CI runner
 /// inside a Slurm or Kubernetes job does not change these tests.
@@ -35,23 +35,9 @@ fn glint(args: &[&str], cwd: &Path) -> Output {
     command(args, cwd).output().expect("run glint")
 }
 
-fn report(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
 /// index → status of each job in a report.
 fn statuses(report: &serde_json::Value) -> BTreeMap<u64, String> {
-    report["jobs"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|j| {
-            (
-                j["index"].as_u64().unwrap(),
-                j["status"].as_str().unwrap().to_string(),
-            )
-        })
-        .collect()
+    job_statuses(report).into_iter().collect()
 }
 
 /// A job file of `n` tiny demo-scene jobs (a seed sweep), PNG and EXR outputs alternating.

@@ -5,6 +5,7 @@
 //! budget is refused before it is decoded.
 
 use crate::support;
+use crate::support::one_sided_hausdorff as one_sided_distance;
 
 use glam::Vec3;
 use glint::accel::BackendKind;
@@ -42,17 +43,6 @@ fn triangles(scene: &Scene) -> Vec<[Vec3; 3]> {
         }
     }
     out
-}
-
-/// The largest distance from a point of `a` to the nearest point of `b`.
-fn one_sided_distance(a: &[Vec3], b: &[Vec3]) -> f32 {
-    a.iter()
-        .map(|p| {
-            b.iter()
-                .map(|q| p.distance(*q))
-                .fold(f32::INFINITY, f32::min)
-        })
-        .fold(0.0, f32::max)
 }
 
 /// Position quantisation step of the variants: the encoder's default of 14 bits over the

@@ -6,7 +6,7 @@
 
 use crate::support;
 
-use crate::support::Fixture;
+use crate::support::{Fixture, one_sided_hausdorff};
 use glam::{Mat4, Quat, Vec3, Vec4};
 use glint::scene::gltf::{SceneSelection, load_selected};
 use glint::scene::{Mesh, Scene};
@@ -51,17 +51,6 @@ fn all_positions(scene: &Scene) -> Vec<Vec3> {
         .iter()
         .flat_map(|m| m.positions.iter().copied())
         .collect()
-}
-
-/// The largest distance from a point of `a` to its nearest point of `b`.
-fn one_sided_hausdorff(a: &[Vec3], b: &[Vec3]) -> f32 {
-    a.iter()
-        .map(|p| {
-            b.iter()
-                .map(|q| p.distance(*q))
-                .fold(f32::INFINITY, f32::min)
-        })
-        .fold(0.0, f32::max)
 }
 
 // ---------------------------------------------------------------------------------------

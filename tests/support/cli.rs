@@ -24,3 +24,25 @@ pub fn stderr(out: &Output) -> String {
 pub fn demo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb")
 }
+
+/// A `glint batch --report` file, read.
+pub fn batch_report(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).expect("read the report"))
+        .expect("the report is JSON")
+}
+
+/// (index, status) of each job of a batch report, in the report's order.
+pub fn job_statuses(report: &serde_json::Value) -> Vec<(u64, String)> {
+    report["jobs"]
+        .as_array()
+        .expect("a jobs array")
+        .iter()
+        .map(|j| {
+            let index = j["index"].as_u64().expect("a job index");
+            (
+                index,
+                j["status"].as_str().expect("a job status").to_string(),
+            )
+        })
+        .collect()
+}

@@ -77,3 +77,15 @@ pub fn random_rays(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<Ray> {
         })
         .collect()
 }
+
+/// The largest distance from a point of `a` to its nearest point of `b` (one side of the
+/// Hausdorff distance), by brute force.
+pub fn one_sided_hausdorff(a: &[Vec3], b: &[Vec3]) -> f32 {
+    a.iter()
+        .map(|p| {
+            b.iter()
+                .map(|q| p.distance(*q))
+                .fold(f32::INFINITY, f32::min)
+        })
+        .fold(0.0, f32::max)
+}
