@@ -6,7 +6,7 @@
 //! pkg-config file for Embree, so the standard paths are what finds it there.
 //!
 //! Overrides for unusual installs (e.g. a library taken from a Python wheel, see
-//! `scripts/check-embree4.sh`): `EMBREE_INCLUDE_DIR` (the folder holding `embree4/` or
+//! `tools/check-embree4.sh`): `EMBREE_INCLUDE_DIR` (the folder holding `embree4/` or
 //! `embree3/`), `EMBREE_LIB_DIR`, and `EMBREE_LIB`: the library's link name (`embree4`) or its
 //! exact file name (`libembree4-4aef3270.so.4`, linked verbatim). A directory given explicitly
 //! that holds no Embree is an error, never a silent fall-back to another install.

@@ -7,13 +7,13 @@
 //!
 //! Usage: `cargo run --release --example fuzz_loader -- SECONDS [SEED] [CRASH_DIR]`; prints
 //! executions, executions per second and crashes (and a progress line every 10 s).
-//! `scripts/fuzz.sh SECONDS` wraps it and survives what this process cannot catch.
+//! `tools/fuzz.sh SECONDS` wraps it and survives what this process cannot catch.
 //!
 //! Crash files: `CRASH_DIR/crash-SEED-N.{gltf,glb}`, each with `….seed` beside it naming the
 //! seed file it came from (its relative URIs resolve against that file's folder). Before
 //! each execution the mutant is written to `CRASH_DIR/in-progress.{gltf,glb}` (and
 //! `in-progress.seed`), so that an abort (Embree's assertions), a hang or an out-of-memory
-//! kill, which end this process, still leave the input that caused it for `scripts/fuzz.sh`
+//! kill, which end this process, still leave the input that caused it for `tools/fuzz.sh`
 //! to keep. A normal exit removes them.
 
 #[path = "../tests/mutate/mod.rs"]

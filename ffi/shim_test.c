@@ -1,6 +1,6 @@
 /*
  * Tests of the shim's contract that Rust cannot reach, run against a real Embree 3 or 4 by
- * scripts/check-embree4.sh:
+ * tools/check-embree4.sh:
  *   - the library's runtime version (major.minor.patch) against the headers the shim was
  *     compiled with: they must come from the same release;
  *   - how many bytes past our headers' RTCRayHit / RTCRayHit8 the library writes (instPrimID,

@@ -23,7 +23,7 @@ dpkg -s libfontconfig1-dev >/dev/null 2>&1 || need+=(libfontconfig1-dev)
 dpkg -s fonts-dejavu-core >/dev/null 2>&1 || need+=(fonts-dejavu-core)
 # The Embree 4 check in scripts/test.sh fetches a wheel with pip.
 python3 -m pip --version >/dev/null 2>&1 || need+=(python3-pip)
-# The Python package's tests (scripts/check-python.sh) build it in a venv.
+# The Python package's tests (tools/check-python.sh) build it in a venv.
 python3 -c "import venv, ensurepip" >/dev/null 2>&1 || need+=(python3-venv)
 if ! command -v cargo >/dev/null 2>&1 && [ ! -x "$HOME/.cargo/bin/cargo" ]; then
     command -v curl >/dev/null 2>&1 || need+=(curl ca-certificates)

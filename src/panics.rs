@@ -17,7 +17,7 @@
 //!
 //! Test-only: in builds with debug assertions (`cargo build`, `cargo test`), the environment
 //! variable `GLINT_TEST_PANIC` makes [`test_panic_point`] panic on purpose, so that tests can
-//! check what a user sees when glint has a bug (see `tests/panics.rs`). Release builds never
+//! check what a user sees when glint has a bug (see `tests/hostile/panics.rs`). Release builds never
 //! read it.
 
 use std::any::Any;

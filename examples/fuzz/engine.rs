@@ -1,6 +1,6 @@
 //! The in-process fuzz engine: a corpus, a mutator and one loop that calls a target function
 //! over bytes, with panics caught. Shared by the fuzz binary (`examples/fuzz/main.rs`) and the
-//! tests that check the engine itself (`tests/fuzz_harness.rs`).
+//! tests that check the engine itself (`tests/hostile/fuzz_harness.rs`).
 //!
 //! A *target* is a plain function from bytes to an [`Outcome`]. The engine keeps a corpus
 //! (the seeds, then every input whose outcome had a *signature* not seen before: its result

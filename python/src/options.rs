@@ -1,7 +1,7 @@
 //! A render's keyword arguments, as `Scene.render` and the jobs of `glint.render_batch` take
 //! them, turned into a library [`Job`]. Defaults are [`Job::default`]'s, which are `glint
 //! render`'s, so a render from Python and the same render from the command line are the same
-//! job (and the same pixels); the tests below and `tests/job_defaults.rs` check it.
+//! job (and the same pixels); the tests below and `tests/render/job_defaults.rs` check it.
 
 use glam::Vec3;
 use glint::job::{
@@ -339,7 +339,7 @@ mod tests {
 
     #[test]
     fn no_keyword_arguments_give_the_default_job() {
-        // Python's defaults are `Job::default()`'s, which tests/job_defaults.rs proves are
+        // Python's defaults are `Job::default()`'s, which tests/render/job_defaults.rs proves are
         // `glint render`'s.
         let job = job_from_kwargs(None, SceneSource::Demo, Default::default(), &[]).unwrap();
         assert_eq!(job, Job::default());

@@ -98,7 +98,7 @@ def test_denoised_render_equals_the_cli_exr_bit_for_bit(glint_bin, tmp_path):
 def test_defaults_are_the_cli_defaults(glint_bin, tmp_path):
     # Only the size is given: every other option is each side's default (integrator, spp,
     # seed, depth, sampler, filters), so equal pixels mean equal defaults. The Rust side:
-    # tests/job_defaults.rs (glint render = Job::default()) and the glint-python crate's
+    # tests/render/job_defaults.rs (glint render = Job::default()) and the glint-python crate's
     # no_keyword_arguments_give_the_default_job (Python = Job::default()).
     exr = tmp_path / "cli.exr"
     subprocess.run(
@@ -279,7 +279,7 @@ def test_bad_camera_index_raises_with_glints_message(quads_path):
 
 def test_a_panic_inside_a_render_raises_glint_error_in_one_line(quads_path, monkeypatch, capfd):
     """A bug in glint (a panic forced by the test-only GLINT_TEST_PANIC, which the dev-profile
-    build of scripts/check-python.sh reads) raises GlintError naming the scene, not pyo3's
+    build of tools/check-python.sh reads) raises GlintError naming the scene, not pyo3's
     PanicException, and prints none of Rust's panic text."""
     scene = glint.load(quads_path)
     monkeypatch.setenv("GLINT_TEST_PANIC", "render")

@@ -46,7 +46,7 @@ use crate::scene::light_spec::LightSpecError;
 
 /// One render: what to render, how, and where it goes. Plain data: every field is public and
 /// [`Default`] is the demo scene at `glint render`'s defaults, which the Python package's
-/// defaults are too (`tests/job_defaults.rs` and the Python crate's tests check both).
+/// defaults are too (`tests/render/job_defaults.rs` and the Python crate's tests check both).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Job {
     /// The scene.

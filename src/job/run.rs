@@ -130,7 +130,7 @@ fn run_in_scene(
         area_lights: Some(&prepared.area_lights),
         cancel: options.cancel,
     };
-    // Test-only (debug builds): a forced panic where the render starts, for tests/panics.rs.
+    // Test-only (debug builds): a forced panic where the render starts, for tests/hostile/panics.rs.
     crate::panics::test_panic_point("render", &prepared.label);
     let output = job.output.as_ref();
     let done = |samples, stats, note, images, sidecar, denoise_seconds| JobOutput {

@@ -42,7 +42,7 @@
 //! A delta light's sample carries its irradiance and its discrete selection probability; an
 //! area or environment sample its solid-angle density times its selection probability.
 //! Dividing by them keeps next-event estimation unbiased: every light that can contribute at
-//! a point has a positive probability there (`tests/light_sampler.rs` checks the sum over 64
+//! a point has a positive probability there (`tests/transport/light_sampler.rs` checks the sum over 64
 //! point lights, 16 spots, an emissive mesh and an environment against each light's own
 //! integral).
 

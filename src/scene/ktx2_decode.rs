@@ -208,7 +208,7 @@ fn read_container(bytes: &[u8]) -> Result<::ktx2::Reader<&[u8]>, Ktx2Error> {
 
 /// Refuses a basic DFD block whose `texelBlockDimension` bytes hold 255: the block
 /// dimension is stored minus one, and `ktx2` 0.5 adds the one back in a `u8` and unwraps a
-/// `NonZeroU8`, which panics on 255 (found by `tests/ktx2.rs`'s corruption test). The walk
+/// `NonZeroU8`, which panics on 255 (found by `tests/textures/ktx2.rs`'s corruption test). The walk
 /// follows the crate's own: the DFD starts with its total length, then blocks of an 8-byte
 /// header (vendor id and descriptor type, version, block size) and their data. Anything it
 /// cannot follow is left for the crate to refuse.
@@ -251,7 +251,7 @@ fn check_dfd_block_dimensions(bytes: &[u8]) -> Result<(), Ktx2Error> {
 /// Refuses key/value data that does not end on a 4-byte boundary. KTX2 pads every entry to 4
 /// bytes and the section starts aligned, so a valid file always passes; the `basisu`
 /// transcoder's metadata scan rounds its position up to 4 and subtracts it from the end,
-/// which underflows (a panic) when the end is unaligned (found by `tests/ktx2.rs`).
+/// which underflows (a panic) when the end is unaligned (found by `tests/textures/ktx2.rs`).
 fn check_kvd_alignment(bytes: &[u8]) -> Result<(), Ktx2Error> {
     let word = |at: usize| -> Option<u32> {
         Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))

@@ -1,5 +1,5 @@
 //! Structure-aware mutation of glTF and GLB files, shared by the mutation test
-//! (`tests/hostile_mutation.rs`) and the fuzz loop (`examples/fuzz_loader.rs`).
+//! (`tests/hostile/hostile_mutation.rs`) and the fuzz loop (`examples/fuzz_loader.rs`).
 //!
 //! Mutants are byte flips, truncations, splices and, most of the time, edits of one JSON value
 //! of the `.gltf` text or the `.glb` JSON chunk (the GLB is rebuilt with correct chunk lengths
