@@ -369,14 +369,14 @@ fn numbers_bound_for_embree_and_option_values_are_checked_where_parsed() {
     job_file(
         d,
         "far.toml",
-        "[[job]]\noutput = \"f.png\"\ncamera = { position = [1e30, 0, 0], look_at = [0, 0, 0] }\n",
+        "[[job]]\noutput = \"f.png\"\ncamera = { position = [1e15, 0, 0], look_at = [0, 0, 0] }\n",
     );
     let out = glint(&["batch", "far.toml"], d);
     refused(&out, &["camera position", "beyond"]);
     job_file(
         d,
         "orbit.toml",
-        "[[sweep]]\noutput = \"o-{frame}.png\"\norbit = { frames = 2, center = [0, 0, 0], radius = 1e30 }\n",
+        "[[sweep]]\noutput = \"o-{frame}.png\"\norbit = { frames = 2, center = [0, 0, 0], radius = 1e15 }\n",
     );
     let out = glint(&["batch", "orbit.toml"], d);
     refused(&out, &["beyond"]);
@@ -386,7 +386,7 @@ fn numbers_bound_for_embree_and_option_values_are_checked_where_parsed() {
             "render",
             &demo,
             "--light",
-            "point:position=1e30,0,0:intensity=10",
+            "point:position=1e15,0,0:intensity=10",
             "-o",
             "l.png",
             "--width",
@@ -398,7 +398,7 @@ fn numbers_bound_for_embree_and_option_values_are_checked_where_parsed() {
     job_file(
         d,
         "light.toml",
-        "[[job]]\noutput = \"l.png\"\nlight = [\"point:position=0,0,1e30:intensity=10\"]\n",
+        "[[job]]\noutput = \"l.png\"\nlight = [\"point:position=0,0,1e15:intensity=10\"]\n",
     );
     let out = glint(&["batch", "light.toml"], d);
     refused(&out, &["added light", "beyond"]);
@@ -602,4 +602,106 @@ fn the_sidecar_names_the_default_scene_and_negative_xmag_gives_a_positive_k() {
         "{}",
         sidecar["scene_index"]
     );
+    // A glTF orthographic camera with a negative xmag: read as its magnitude, so K's fx is
+    // positive and equals the positive camera's, and the two images are the same.
+    let mut bin: Vec<u8> = [[-1.0f32, -1.0, 0.0], [1.0, -1.0, 0.0], [0.2, 1.0, 0.0]]
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    bin.extend([0u16, 1, 2, 0].iter().flat_map(|i| i.to_le_bytes()));
+    use base64::Engine;
+    let data = base64::engine::general_purpose::STANDARD.encode(&bin);
+    let mut fx = Vec::new();
+    let mut images = Vec::new();
+    for xmag in [2.0, -2.0] {
+        let gltf = serde_json::json!({
+            "asset": {"version": "2.0"},
+            "scene": 0,
+            "scenes": [{"nodes": [0, 1]}],
+            "nodes": [
+                {"mesh": 0},
+                {"camera": 0, "translation": [0.0, 0.0, 3.0]}
+            ],
+            "cameras": [{"type": "orthographic", "orthographic":
+                {"xmag": xmag, "ymag": 1.5, "znear": 0.1, "zfar": 10.0}}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+            "accessors": [
+                {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 0.0]},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}
+            ],
+            "bufferViews": [
+                {"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                {"buffer": 0, "byteOffset": 36, "byteLength": 6}
+            ],
+            "buffers": [{"byteLength": 44,
+                "uri": format!("data:application/octet-stream;base64,{data}")}]
+        });
+        let name = format!("ortho{}.gltf", if xmag > 0.0 { "+" } else { "-" });
+        std::fs::write(d.join(&name), gltf.to_string()).unwrap();
+        let out_name = name.replace(".gltf", ".png");
+        let out = glint(
+            &[
+                "render",
+                &name,
+                "--width",
+                "16",
+                "--height",
+                "12",
+                "--spp",
+                "1",
+                "--sidecar",
+                "--backend",
+                "bvh",
+                "-o",
+                &out_name,
+                "-q",
+            ],
+            d,
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        let sidecar: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(d.join(out_name.replace(".png", ".json"))).unwrap(),
+        )
+        .unwrap();
+        fx.push(sidecar["camera"]["K"][0][0].as_f64().unwrap());
+        images.push(std::fs::read(d.join(&out_name)).unwrap());
+    }
+    assert!(fx[0] > 0.0 && fx[1] == fx[0], "fx {fx:?}");
+    assert!(
+        images[0] == images[1],
+        "a negative xmag does not mirror the image"
+    );
+}
+
+#[test]
+fn merge_refuses_parts_with_samples_beyond_their_spp_or_impossible_weights() {
+    use glam::Vec3;
+    use glint::output::partial::{read_partial_exr, write_partial_exr};
+    use glint::render::partial::PartialImage;
+    use glint::render::{Aovs, Image};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("part.exr");
+    let part = |spp: u32, samples: std::ops::Range<u32>, weight: f32| PartialImage {
+        spp,
+        seed: 0,
+        samples,
+        radiance_sum: Image::filled(2, 2, Vec3::ONE),
+        aov_sums: Aovs::default(),
+        weight: Image::filled(2, 2, weight),
+    };
+    // A sound part reads back.
+    write_partial_exr(&path, &part(8, 0..8, 8.0)).unwrap();
+    assert!(read_partial_exr(&path).is_ok());
+    for (bad, expected) in [
+        (part(8, 0..16, 16.0), "exceed its 8 samples"),
+        (part(8, 0..8, 1e-40), "'weight'"),
+        (part(8, 0..8, f32::INFINITY), "'weight'"),
+        (part(8, 0..8, 1e9), "'weight'"),
+    ] {
+        write_partial_exr(&path, &bad).unwrap();
+        let err = read_partial_exr(&path).unwrap_err().to_string();
+        assert!(err.contains(expected) && !err.contains('\n'), "{err}");
+    }
 }
