@@ -86,6 +86,13 @@ impl GroundTruthFile {
             path: path.to_path_buf(),
             message,
         };
+        // The header's declared size against the budgets, before any pixel is allocated.
+        crate::output::budget::check_exr(
+            path,
+            crate::render::MAX_PIXELS,
+            crate::output::budget::memory_budget(),
+        )
+        .map_err(&fail)?;
         let image = exr::prelude::read()
             .no_deep_data()
             .largest_resolution_level()
@@ -217,6 +224,18 @@ pub fn flow_round_trip(
         next.channel("flow_backward.X", "flow_backward")?,
         next.channel("flow_backward.Y", "flow_backward")?,
     );
+    if (file.sidecar.width, file.sidecar.height) != (next.sidecar.width, next.sidecar.height) {
+        return Err(CheckError::Size {
+            path: next.path.clone(),
+            found: format!("{}×{}", next.sidecar.width, next.sidecar.height),
+            expected: format!(
+                "{}×{} as {} (the frames of a flow check must have one size)",
+                file.sidecar.width,
+                file.sidecar.height,
+                file.path.display()
+            ),
+        });
+    }
     let (w, h) = (next.sidecar.width as i64, next.sidecar.height as i64);
     let ids = file.instance_ids.as_ref().zip(next.instance_ids.as_ref());
     // The next frame's backward flow at pixel (x, y), if valid and (with IDs) on `id`.

@@ -24,6 +24,15 @@ pub fn write_all(dir: &Path) -> Result<usize, String> {
         ("env", env_seeds()),
         ("jobs", text_seeds(JOBS)),
         ("lights", text_seeds(LIGHTS)),
+        (
+            "outputs",
+            vec![
+                ("distinct".into(), vec![0, 0, 7, 1, 5, 0]),
+                ("dot-slash".into(), vec![0, 0, 1, 0]),
+                ("png-exr-sidecars".into(), vec![0, 1, 4, 1]),
+                ("sidecar-on-job-file".into(), vec![0, 1]),
+            ],
+        ),
         ("draco", draco_seeds()),
     ];
     let mut count = 0;

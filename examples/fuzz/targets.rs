@@ -139,6 +139,14 @@ static TARGETS: &[Target] = &[
         max_len: 4 << 10,
     },
     Target {
+        name: "outputs",
+        about: "job files of colliding outputs and path spellings, against the output plan",
+        execute: outputs,
+        shape: Shape::Binary,
+        dictionary: &[b"\x00\x01", b"\x02\x03", b"\x10\x11"],
+        max_len: 64,
+    },
+    Target {
         name: "lights",
         about: "light files (TOML) and --light specs",
         execute: lights,
@@ -556,6 +564,88 @@ pub fn jobs(input: &[u8]) -> Outcome {
                 }
             }
             Outcome::Accepted(summary)
+        }
+    }
+}
+
+/// The output spellings the `outputs` target draws from: one file spelled several ways, its
+/// PNG/EXR twin (whose sidecar is the same `a.json`), and distinct files.
+const SPELLINGS: &[&str] = &[
+    "a.png",
+    "./a.png",
+    "sub/../a.png",
+    "sub/./../a.png",
+    "a.exr",
+    "sub/a.png",
+    "sub/x/../a.png",
+    "b.png",
+    "./b.exr",
+    "jobs.png",
+];
+
+/// `outputs`: a job file of up to 8 jobs whose outputs (and sidecar flags) the input bytes
+/// pick from [`SPELLINGS`], read from `/glint-fuzz/a.json` (so that the sidecar of `a.png`
+/// is the job file). The oracle: the file parses exactly when no two planned files (images,
+/// sidecars, the job file) are one path after `.` and `..` are applied, and a refusal for a
+/// collision is one line.
+pub fn outputs(input: &[u8]) -> Outcome {
+    let folder = Path::new("/glint-fuzz");
+    let job_file = folder.join("a.json");
+    let mut text = String::from("[defaults]\nscene = \"scene.glb\"\n");
+    // Lexical normalisation: the folder does not exist, so no link can intervene.
+    let normal = |p: &Path| -> PathBuf {
+        let mut out = PathBuf::new();
+        for c in p.components() {
+            match c {
+                std::path::Component::CurDir => {}
+                std::path::Component::ParentDir => {
+                    out.pop();
+                }
+                c => out.push(c),
+            }
+        }
+        out
+    };
+    let mut files = vec![normal(&job_file)];
+    let mut collide = false;
+    for pair in input.chunks(2).take(8) {
+        let spelling = SPELLINGS[pair[0] as usize % SPELLINGS.len()];
+        let sidecar = pair.get(1).is_some_and(|b| b & 1 == 1);
+        text.push_str(&format!(
+            "[[job]]\noutput = \"{spelling}\"\nsidecar = {sidecar}\n"
+        ));
+        let image = normal(&folder.join(spelling));
+        let mut mine = vec![image.clone()];
+        if sidecar {
+            mine.push(image.with_extension("json"));
+        }
+        for f in mine {
+            collide |= files.contains(&f);
+            files.push(f);
+        }
+    }
+    if input.len() < 2 {
+        return Outcome::Refused("fewer than 2 bytes: no job".into());
+    }
+    let options = glint::cli::job_options::RenderOptions;
+    match glint::batch::jobs::parse_file(&text, &job_file, &options) {
+        Ok(file) if collide => Outcome::Broken(format!(
+            "{} jobs accepted though two planned files are one: {text:?}",
+            file.jobs.len()
+        )),
+        Ok(file) => Outcome::Accepted(format!("{} jobs", file.jobs.len())),
+        Err(err) => {
+            let message = err.to_string();
+            let collision = message.contains("twice") || message.contains("which glint reads");
+            if message.contains('\n') {
+                Outcome::Broken(format!("a multi-line refusal: {message}"))
+            } else if collision && !collide {
+                Outcome::Broken(format!("refused without a collision: {message}; {text:?}"))
+            } else {
+                // A collision (in the plan's words, or the template check's), or another
+                // reason found first.
+                Outcome::Refused(message)
+            }
         }
     }
 }

@@ -122,6 +122,12 @@ pub fn gather(images: &[PathBuf], coco_path: &Path) -> Result<Coco, CocoError> {
     for image in images {
         let path = sidecar_path(image);
         match read_sidecar(&path).map_err(|e| e.to_string()) {
+            Ok(file) if !file.annotated => {
+                return Err(CocoError::Read {
+                    path,
+                    message: "it was written without --annotations".into(),
+                });
+            }
             Ok(file) => files.push((image, file)),
             Err(message) => return Err(CocoError::Read { path, message }),
         }
@@ -183,6 +189,59 @@ pub fn gather(images: &[PathBuf], coco_path: &Path) -> Result<Coco, CocoError> {
         }
     }
     Ok(coco)
+}
+
+/// How long `glint batch --coco` waits for jobs another batch claimed: 24 hours.
+pub const COCO_WAIT: std::time::Duration = std::time::Duration::from_secs(24 * 3600);
+
+/// Waits until every job of `jobs` (claimed by another batch when this one looked) is free
+/// and complete, polling its claim every half second, for at most `timeout`. Fails, naming
+/// the job, when a job's claim is released while its outputs are incomplete (the other batch
+/// failed it, or was killed), or when `timeout` passes.
+pub fn wait_for_others(
+    jobs: &[&super::Job],
+    claims: &super::claim::ClaimPolicy,
+    timeout: std::time::Duration,
+) -> Result<(), String> {
+    let start = std::time::Instant::now();
+    for job in jobs {
+        loop {
+            match super::claim::try_claim_with(job.output(), claims) {
+                Ok(Some(held)) => {
+                    held.release();
+                    if super::runner::output_is_complete(job) {
+                        break;
+                    }
+                    return Err(format!(
+                        "job {} ({}): another glint batch claimed it but left {} incomplete; \
+                         run the batch again to render it, then gather --coco",
+                        job.index,
+                        job.origin,
+                        job.output().display()
+                    ));
+                }
+                Ok(None) if start.elapsed() < timeout => {
+                    std::thread::sleep(std::time::Duration::from_millis(500));
+                }
+                Ok(None) => {
+                    return Err(format!(
+                        "job {} ({}): still claimed by another glint batch after {} s; gather \
+                         --coco once it has finished (run the batch again with --coco)",
+                        job.index,
+                        job.origin,
+                        timeout.as_secs()
+                    ));
+                }
+                Err(e) => {
+                    return Err(format!(
+                        "job {} ({}): cannot check its claim: {e}",
+                        job.index, job.origin
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Writes `coco` as JSON to `path`, atomically.

@@ -132,6 +132,9 @@ pub struct JobFile {
     /// The top-level `output_root = "DIR"` (resolved against the job file's folder): the
     /// folder outputs must resolve inside, instead of the job file's folder.
     pub output_root: Option<PathBuf>,
+    /// Every file the jobs write and read ([`plan_jobs`]); `glint batch` adds its report and
+    /// COCO file to it before anything renders.
+    pub plan: crate::output::OutputPlan,
 }
 
 /// Reads and expands the job file at `path`, its options parsed by `options`.
@@ -141,6 +144,11 @@ pub fn load(path: &Path, options: &dyn OptionParser) -> Result<Vec<Job>, JobFile
 
 /// Reads the job file at `path`: its jobs and its batch settings.
 pub fn load_file(path: &Path, options: &dyn OptionParser) -> Result<JobFile, JobFileError> {
+    // Checked before opening: opening a FIFO would block until a writer appears.
+    crate::output::plan::require_regular(path, "the job file").map_err(|e| JobFileError::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e.0),
+    })?;
     let text = std::fs::read_to_string(path).map_err(|source| JobFileError::Io {
         path: path.to_path_buf(),
         source,
@@ -262,15 +270,41 @@ pub fn parse_file(
             jobs.push(context.job(&variant.table, &origin, jobs.len())?);
         }
     }
-    // The ground truth, on the parsed paths: catches what the templates alone cannot (an
-    // output given as a number).
-    let mut outputs = std::collections::HashMap::new();
-    for job in &jobs {
-        if let Some(first) = outputs.insert(job.output().to_path_buf(), job.origin.clone()) {
-            return Err(err(&job.origin, duplicate_output(job.output(), &first)));
+    // The ground truth, on the parsed paths: the output plan catches what the templates
+    // alone cannot (an output given as a number, `./a.png` against `a.png`, a symbolic link
+    // to a folder, a sidecar shared by `a.png` and `a.exr`, an output that is an input).
+    let plan = plan_jobs(&jobs, path).map_err(|(origin, message)| err(&origin, message))?;
+    Ok(JobFile {
+        jobs,
+        output_root,
+        plan,
+    })
+}
+
+/// The output plan of `jobs` read from `job_file`: every job's image and sidecar as outputs,
+/// the job file and every job's scene (with its buffers and images), lights files and
+/// environment map as inputs. The error names the job at fault and the message.
+pub fn plan_jobs(
+    jobs: &[Job],
+    job_file: &Path,
+) -> Result<crate::output::OutputPlan, (String, String)> {
+    let mut plan = crate::output::OutputPlan::new();
+    plan.input(job_file, "the job file")
+        .map_err(|e| ("the file".to_string(), e.to_string()))?;
+    // A scene's external files are read once, however many jobs share it.
+    let mut scenes = std::collections::HashSet::new();
+    for job in jobs {
+        let mut render = job.render.clone();
+        if let crate::job::SceneSource::File(scene) = &render.scene
+            && !scenes.insert(scene.clone())
+        {
+            render.scene = crate::job::SceneSource::Demo;
         }
+        render
+            .plan_files(&mut plan, &job.origin)
+            .map_err(|e| (job.origin.clone(), e.to_string()))?;
     }
-    Ok(JobFile { jobs, output_root })
+    Ok(plan)
 }
 
 /// The message for a job that writes `path`, as the job `first` does.
@@ -582,8 +616,15 @@ fn camera_override(t: &Table) -> Result<CameraOverride, String> {
         };
         let items = value.as_array().filter(|a| a.len() == 3);
         let numbers: Option<Vec<f32>> = items.and_then(|a| a.iter().map(number).collect());
+        let limit = crate::accel::MAX_COORDINATE;
         match numbers {
-            Some(n) if n.iter().all(|x| x.is_finite()) => Ok(Some(Vec3::new(n[0], n[1], n[2]))),
+            Some(n) if n.iter().all(|x| x.is_finite() && x.abs() <= limit) => {
+                Ok(Some(Vec3::new(n[0], n[1], n[2])))
+            }
+            Some(n) if n.iter().all(|x| x.is_finite()) || key == "up" => Err(format!(
+                "camera {key} {n:?} lies beyond ±{limit:e}, where f32 rays lose all precision \
+                 (the bound glTF cameras get)"
+            )),
             _ => Err(format!("camera {key} must be [x, y, z] (three numbers)")),
         }
     };

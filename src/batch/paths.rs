@@ -5,53 +5,9 @@
 //! checked to be writable before anything renders, so that a read-only folder fails at once
 //! rather than after hours of rendering.
 
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
-/// The real path `path` names (absolute, `.`/`..` and symbolic links resolved), including
-/// the part that does not exist yet. A `..` is applied to the real path of what precedes it,
-/// as the kernel does, so a symbolic link followed by `..` goes where the file system goes.
-pub fn resolve(path: &Path) -> std::io::Result<PathBuf> {
-    let absolute = if path.is_absolute() {
-        path.to_path_buf()
-    } else {
-        std::env::current_dir()?.join(path)
-    };
-    let mut resolved = PathBuf::new();
-    for component in absolute.components() {
-        match component {
-            Component::Prefix(_) | Component::RootDir => resolved.push(component),
-            Component::CurDir => {}
-            Component::ParentDir => {
-                resolved = real(&resolved);
-                resolved.pop();
-            }
-            Component::Normal(name) => resolved.push(name),
-        }
-    }
-    Ok(real(&resolved))
-}
-
-/// `path` with its longest existing ancestor canonicalised (the rest cannot hold links).
-fn real(path: &Path) -> PathBuf {
-    let mut existing = path;
-    let mut rest = Vec::new();
-    loop {
-        if let Ok(canonical) = std::fs::canonicalize(existing) {
-            let mut out = canonical;
-            for name in rest.iter().rev() {
-                out.push(name);
-            }
-            return out;
-        }
-        match (existing.parent(), existing.file_name()) {
-            (Some(parent), Some(name)) => {
-                rest.push(name.to_os_string());
-                existing = parent;
-            }
-            _ => return path.to_path_buf(),
-        }
-    }
-}
+pub use crate::output::plan::resolve;
 
 /// Checks that `output` resolves inside `root` (itself resolved). Returns the resolved
 /// output; the error says where it resolves and how to allow it.

@@ -12,9 +12,11 @@
 //! ([`super::paths::confine`]) and every output folder must pass a write probe
 //! ([`super::paths::probe_writable`]); a job failing either is reported and not rendered.
 //!
-//! Resume: a job whose output exists and is complete is skipped. glint writes every output
-//! atomically (temporary file, then rename), so a file present under the output's name is
-//! complete. The runner still decodes the whole file and checks the image size against the
+//! Resume: a job whose every declared output exists and is complete is skipped. glint writes
+//! a job's outputs as one unit (each to a temporary file, then renamed with the image last:
+//! [`crate::output::atomic::write_together`]), so an image present under the output's name
+//! was written complete, with its sidecar. The sidecar must exist where the job writes one,
+//! name the image, and hold annotations where the job asks for them. The runner still decodes the whole file and checks the image size against the
 //! job's `width`/`height` (where the job gives them), so a file glint did not write (copied
 //! in, truncated by hand) or a stale one of another size is rendered again; decoding a small
 //! image costs far less than rendering it. An EXR whose `glint.brdf` header names another
@@ -141,7 +143,7 @@ pub fn run_with_loader(
             // A batch killed between writing this output and giving its claim up left the
             // claim file (and perhaps temporaries of a later write): free, so removed.
             if let Ok(Some(held)) = claim::try_claim_with(job.output(), &options.claims) {
-                held.remove_stray_temps();
+                remove_job_temps(&held, job);
                 held.release();
             }
             reports.push(report(job, JobStatus::Skipped, 0.0, None, None));
@@ -225,6 +227,15 @@ pub fn run_with_loader(
     })
 }
 
+/// Removes the temporary files killed runs left for `job`'s outputs (its image and its
+/// sidecar), while holding its claim.
+fn remove_job_temps(held: &claim::Claim, job: &Job) {
+    held.remove_stray_temps();
+    for temp in crate::output::atomic::stray_temps(&crate::output::sidecar_path(job.output())) {
+        let _ = std::fs::remove_file(temp.path);
+    }
+}
+
 /// Whether `job` may still need rendering here: its claim is free (checked by taking and
 /// dropping it) and its output is not complete (or `force`, and no other batch wrote it
 /// since `started`).
@@ -290,7 +301,7 @@ fn claim_and_render(
             return report(job, JobStatus::Failed, 0.0, None, Some(message));
         }
     };
-    held.remove_stray_temps();
+    remove_job_temps(&held, job);
     // Another process may have finished the job since this one looked (with --force: since
     // this batch started).
     let done_elsewhere = if options.force {
@@ -380,7 +391,12 @@ fn render_job(
 /// The EXR header attribute naming the metallic-roughness model (`glint.brdf`).
 const BRDF_ATTRIBUTE: &str = "glint.brdf";
 
-/// Whether the job's output exists and is complete (see the module documentation).
+/// Whether the job's every declared output exists and matches what the job would write now
+/// (see the module documentation): the image, of the job's size; the sidecar where the job
+/// writes one, naming the image and, with `--annotations`, holding them; for an EXR, the
+/// metallic-roughness model, the AOV channels and the denoiser's `noisy` layer the job asks
+/// for. Every EXR's header is checked against the pixel and memory budgets before any pixel
+/// is read.
 pub fn output_is_complete(job: &Job) -> bool {
     let path = job.output();
     let Ok(meta) = std::fs::metadata(path) else {
@@ -389,32 +405,31 @@ pub fn output_is_complete(job: &Job) -> bool {
     if !meta.is_file() || meta.len() == 0 {
         return false;
     }
-    // Annotations asked for are part of the output.
-    if job.render.settings.aovs.annotations && !crate::output::sidecar::sidecar_path(path).is_file()
-    {
-        return false;
+    if job.render.writes_sidecar() {
+        let Ok(sidecar) = crate::output::read_sidecar(&crate::output::sidecar_path(path)) else {
+            return false;
+        };
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+        if Some(sidecar.image) != name
+            || (job.render.settings.aovs.annotations && !sidecar.annotated)
+        {
+            return false;
+        }
     }
     let size = match crate::output::OutputFormat::from_path(path) {
-        Ok(crate::output::OutputFormat::Png) => image::open(path)
-            .ok()
-            .map(|image| (image.width(), image.height())),
-        Ok(crate::output::OutputFormat::Exr) => exr::prelude::read_all_flat_layers_from_file(path)
-            .ok()
-            .and_then(|image| {
-                let layer = image.layer_data.first()?;
-                // An EXR names the metallic-roughness model that rendered it: one of another
-                // model is stale (a PNG cannot say; `--force` renders it again).
-                let model = layer
-                    .attributes
-                    .other
-                    .get(&exr::meta::attribute::Text::from(BRDF_ATTRIBUTE));
-                if let Some(exr::meta::attribute::AttributeValue::Text(model)) = model
-                    && *model != *job.render.settings.brdf.name()
-                {
-                    return None;
+        Ok(crate::output::OutputFormat::Png) => {
+            // The header first: a PNG declaring more pixels than glint renders is not one of
+            // its outputs, and is not decoded.
+            match image::image_dimensions(path) {
+                Ok((w, h)) if u64::from(w) * u64::from(h) <= crate::render::MAX_PIXELS => {
+                    image::open(path)
+                        .ok()
+                        .map(|image| (image.width(), image.height()))
                 }
-                Some((layer.size.0 as u32, layer.size.1 as u32))
-            }),
+                _ => None,
+            }
+        }
+        Ok(crate::output::OutputFormat::Exr) => exr_matches(job, path),
         Err(_) => None,
     };
     let Some((width, height)) = size else {
@@ -422,6 +437,70 @@ pub fn output_is_complete(job: &Job) -> bool {
     };
     let render = &job.render;
     render.width.is_none_or(|w| w == width) && render.height.is_none_or(|h| h == height)
+}
+
+/// The size of the EXR output `path` if it is complete and holds what `job` asks for: its
+/// model, its AOV channels, its `noisy` layer. `None` otherwise.
+fn exr_matches(job: &Job, path: &Path) -> Option<(u32, u32)> {
+    use exr::prelude::traits::*;
+    crate::output::budget::check_exr(
+        path,
+        crate::render::MAX_PIXELS,
+        crate::output::budget::memory_budget(),
+    )
+    .ok()?;
+    // On this thread: a decompressor's panic on a corrupt block, caught, is a stale output.
+    let image = crate::panics::catch(|| {
+        exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .first_valid_layer()
+            .all_attributes()
+            .non_parallel()
+            .from_file(path)
+            .ok()
+    })
+    .ok()??;
+    let layer = &image.layer_data;
+    // An EXR names the metallic-roughness model that rendered it: one of another model is
+    // stale (a PNG cannot say; `--force` renders it again).
+    let model = layer
+        .attributes
+        .other
+        .get(&exr::meta::attribute::Text::from(BRDF_ATTRIBUTE));
+    if let Some(exr::meta::attribute::AttributeValue::Text(model)) = model
+        && *model != *job.render.settings.brdf.name()
+    {
+        return None;
+    }
+    let has = |name: &str| {
+        layer
+            .channel_data
+            .list
+            .iter()
+            .any(|c| c.name.to_string() == name)
+    };
+    let aovs = &job.render.settings.aovs;
+    let flows = job.render.selection.time.is_some();
+    let expected = [
+        ("albedo.R", aovs.albedo),
+        ("normal.X", aovs.normal),
+        ("depth.Z", aovs.depth),
+        ("instance_id", aovs.instance_id),
+        ("material_id", aovs.material_id),
+        ("coverage.id0", aovs.coverage),
+        ("z", aovs.z),
+        ("position.X", aovs.position),
+        ("uv.U", aovs.uv),
+        ("flow.X", aovs.flow && flows),
+        ("flow_backward.X", aovs.flow_backward && flows),
+        ("noisy.R", job.render.denoise),
+    ];
+    if expected.iter().any(|&(name, wanted)| has(name) != wanted) {
+        return None;
+    }
+    Some((layer.size.0 as u32, layer.size.1 as u32))
 }
 
 fn report(

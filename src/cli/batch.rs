@@ -35,8 +35,8 @@ pub struct BatchArgs {
     /// many seconds (at least 180; by default never). See docs/batch.md.
     #[arg(long, value_name = "SECONDS", value_parser = clap::value_parser!(u64).range(180..))]
     pub steal_claims: Option<u64>,
-    /// Worker threads shared by all jobs; 0 uses every core.
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads shared by all jobs; 0 uses every core (at most 1024).
+    #[arg(long, default_value_t = 0, value_parser = super::values::threads)]
     pub threads: usize,
     /// List the jobs of the shard (index, origin, output) and render nothing.
     #[arg(long)]
@@ -55,10 +55,25 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
     let file =
         batch::jobs::load_file(&args.jobs, &RenderOptions).map_err(CliError::from_display)?;
     let mut jobs = file.jobs;
+    let mut plan = file.plan;
     if args.coco.is_some() {
         for job in &mut jobs {
             job.render.settings.aovs.annotations = true;
         }
+        // Every job now writes a sidecar too.
+        plan = batch::jobs::plan_jobs(&jobs, &args.jobs).map_err(|(origin, message)| {
+            CliError::Usage(format!("{}: {origin}: {message}", args.jobs.display()))
+        })?;
+    }
+    // The batch's own files join the plan before anything renders: neither may replace an
+    // input, an output of a job or each other.
+    if let Some(report) = &args.report {
+        plan.output(report, "the report (--report)")
+            .map_err(|e| CliError::Usage(e.to_string()))?;
+    }
+    if let Some(coco) = &args.coco {
+        plan.output(coco, "the COCO file (--coco)")
+            .map_err(|e| CliError::Usage(e.to_string()))?;
     }
     let shard = match args.shard {
         None => Shard::ALL,
@@ -123,6 +138,22 @@ pub fn run(args: BatchArgs) -> Result<(), CliError> {
     if let Some(coco_path) = &args.coco
         && report.all_succeeded()
     {
+        // Jobs another batch claimed are that batch's to finish: wait for them (see
+        // docs/batch.md, "Concurrent batches and --coco").
+        let busy: Vec<&batch::Job> = report
+            .jobs
+            .iter()
+            .filter(|r| r.status == batch::JobStatus::Busy)
+            .filter_map(|r| jobs.iter().find(|j| j.index == r.index))
+            .collect();
+        if !busy.is_empty() && !args.quiet {
+            eprintln!(
+                "--coco: waiting for {} jobs that another glint batch is rendering",
+                busy.len()
+            );
+        }
+        batch::coco::wait_for_others(&busy, &options.claims, batch::coco::COCO_WAIT)
+            .map_err(CliError::Usage)?;
         let images: Vec<PathBuf> = report.jobs.iter().map(|j| j.output.clone()).collect();
         let coco = batch::coco::gather(&images, coco_path).map_err(CliError::from_display)?;
         batch::coco::write_coco(coco_path, &coco).map_err(CliError::from_display)?;

@@ -14,10 +14,10 @@ pub struct CheckGtArgs {
     #[arg(long, value_name = "NEXT.exr")]
     pub next: Option<PathBuf>,
     /// Largest accepted reprojection error, relative to the scene's scale in the image.
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(long, default_value_t = 1e-4, value_parser = super::values::tolerance)]
     pub tolerance: f64,
     /// Largest accepted forward-backward flow error, pixels.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, value_parser = super::values::tolerance)]
     pub flow_tolerance: f64,
 }
 

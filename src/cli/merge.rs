@@ -25,6 +25,14 @@ pub struct MergeArgs {
 /// Runs `glint merge`.
 pub fn run(args: MergeArgs) -> Result<(), CliError> {
     let format = OutputFormat::from_path(&args.output).map_err(CliError::from_display)?;
+    // The merged image may replace none of its parts; parts must be regular files.
+    let mut plan = crate::output::OutputPlan::new();
+    for (k, part) in args.parts.iter().enumerate() {
+        plan.input(part, format!("a part (number {})", k + 1))
+            .map_err(|e| CliError::Usage(e.to_string()))?;
+    }
+    plan.output(&args.output, "the merged image")
+        .map_err(|e| CliError::Usage(e.to_string()))?;
     let tagged = args
         .parts
         .iter()

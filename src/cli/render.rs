@@ -21,6 +21,9 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         }
     };
     let job = args.to_job()?;
+    // Every file this render writes and reads, the scene's buffers and images included.
+    job.plan_files(&mut crate::output::OutputPlan::new(), "")
+        .map_err(|e| CliError::Usage(e.to_string()))?;
     for note in job.check()? {
         say(note);
     }

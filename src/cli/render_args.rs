@@ -79,8 +79,8 @@ pub struct RenderArgs {
     /// camera framing the scene if it has none].
     #[arg(long)]
     pub camera: Option<usize>,
-    /// Worker threads; 0 uses every core.
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads; 0 uses every core (at most 1024).
+    #[arg(long, default_value_t = 0, value_parser = super::values::threads)]
     pub threads: usize,
     /// Seed of the sample positions.
     #[arg(long, default_value_t = 0)]
@@ -241,6 +241,10 @@ pub struct RenderArgs {
     /// declared counts before allocating.
     #[arg(long, value_name = "BYTES", default_value_t = crate::scene::gltf::DEFAULT_MAX_GEOMETRY_BYTES)]
     pub max_geometry_bytes: u64,
+    /// Most memory the render's own buffers (film, AOVs, denoiser) may take, estimated
+    /// before they are allocated: bytes, or 8G, 512M [default: half of physical memory].
+    #[arg(long, value_name = "BYTES", value_parser = super::values::bytes)]
+    pub max_memory: Option<u64>,
 }
 
 impl RenderArgs {
@@ -363,6 +367,7 @@ impl RenderArgs {
             flow_dt: self.flow_dt,
             categories: self.category.clone(),
             denoise: self.denoise,
+            max_memory: self.max_memory,
         })
     }
 }

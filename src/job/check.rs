@@ -2,8 +2,9 @@
 //! impossible option combinations before any work; [`Job::camera`] picks the camera;
 //! the job's added lights are read and its partial sample range is checked here too.
 
-use super::{CameraChoice, Job, JobError, LightSource, Samples};
+use super::{CameraChoice, EnvironmentSource, Job, JobError, LightSource, Samples, SceneSource};
 use crate::output::OutputFormat;
+use crate::output::{OutputPlan, PlanError};
 use crate::render::{MAX_IMAGE_SIDE, MAX_PIXELS};
 use crate::scene::defaults::{self, Completed};
 use crate::scene::light_spec;
@@ -14,6 +15,12 @@ use std::path::Path;
 /// Most samples per pixel a job accepts (2^24): beyond it f32 sample sums stop resolving a
 /// single sample's contribution.
 pub const MAX_SPP: u32 = 1 << 24;
+
+/// Whether `p` is finite and within the ray queries' coordinate bound
+/// ([`crate::accel::MAX_COORDINATE`]), as every glTF position must be.
+fn within_bounds(p: glam::Vec3) -> bool {
+    p.is_finite() && p.abs().max_element() <= crate::accel::MAX_COORDINATE
+}
 
 impl Job {
     /// Rejects option combinations that cannot be honoured, before any work is done. Returns
@@ -83,6 +90,25 @@ impl Job {
                     .into(),
             );
         }
+        // The bound the loader puts on a glTF file's cameras, for the job's own.
+        let placed = match &self.camera {
+            CameraChoice::LookAt {
+                position, target, ..
+            } => Some((*position, *target)),
+            CameraChoice::Given(camera) => {
+                Some((camera.world_from_camera.w_axis.truncate(), glam::Vec3::ZERO))
+            }
+            _ => None,
+        };
+        if let Some((position, target)) = placed
+            && !(within_bounds(position) && within_bounds(target))
+        {
+            return bad(format!(
+                "the camera at {position} looking at {target} lies beyond ±{:e}, where f32 rays \
+                 lose all precision (the bound glTF cameras get)",
+                crate::accel::MAX_COORDINATE
+            ));
+        }
         if self.width == Some(0) || self.height == Some(0) {
             return bad("--width and --height must be at least 1".into());
         }
@@ -97,6 +123,11 @@ impl Job {
                 MAX_PIXELS
             ));
         }
+        // Outputs that would replace an input or each other, and files that are not regular
+        // (the scene's own buffers and images are left to the command's plan: reading a
+        // large .gltf's JSON for every job of a batch would cost more than the check).
+        self.plan_files_with(&mut OutputPlan::new(), "", false)
+            .map_err(|e| JobError::Options(e.to_string()))?;
         let Some(out) = &self.output else {
             return Ok(notes);
         };
@@ -142,6 +173,125 @@ impl Job {
             ));
         }
         Ok(notes)
+    }
+
+    /// Bytes the render's own buffers take at `width` × `height`: the film (two half-sample
+    /// radiance and weight buffers, alpha), each AOV's film buffer, resolved image and encoder
+    /// copy, the ID passes' per-pixel coverage counts and centre hits, the denoiser's inputs and
+    /// output, and the image's resolved and encoded copies. An estimate from the buffers'
+    /// element sizes (within a factor of about 1.5 of the peak measured), not counting the
+    /// scene, which its own budgets bound.
+    pub fn memory_estimate(&self, width: u32, height: u32) -> u64 {
+        let aovs = &self.settings.aovs;
+        // Film: 2 × (Vec3 + f32) + alpha; resolved image and alpha; the encoder's copy.
+        let mut per_pixel: u64 = 2 * (12 + 4) + 4 + 16 + 16;
+        let mut add = |wanted: bool, bytes: u64| {
+            if wanted {
+                per_pixel += bytes;
+            }
+        };
+        let denoise = self.denoise;
+        add(aovs.albedo || denoise, 3 * 12);
+        add(aovs.normal || denoise, 3 * 12);
+        add(aovs.depth, 3 * 4);
+        add(aovs.instance_id, 3 * 4);
+        add(aovs.material_id, 3 * 4);
+        // Coverage counts per pixel (a small vector of (id, count)), resolved layers.
+        add(aovs.coverage, 64 + 2 * 32);
+        add(aovs.any_ids() || aovs.any_geometric(), 48);
+        add(aovs.z, 2 * 4);
+        add(aovs.position, 2 * 12);
+        add(aovs.uv, 2 * 8);
+        add(aovs.flow, 2 * 8);
+        add(aovs.flow_backward, 2 * 8);
+        add(aovs.annotations, 2 * 64);
+        add(self.settings.adaptive.is_some(), 16);
+        // The denoiser's colour input and output, and the noisy layer kept and encoded.
+        add(denoise, 4 * 12);
+        u64::from(width) * u64::from(height) * per_pixel
+    }
+
+    /// Refuses a render whose [`Self::memory_estimate`] exceeds the job's memory budget
+    /// ([`Job::max_memory`], else the default), before any buffer is allocated.
+    pub fn check_memory(&self, width: u32, height: u32) -> Result<(), JobError> {
+        use crate::output::budget::{human_bytes, memory_budget};
+        let budget = self.max_memory.unwrap_or_else(memory_budget);
+        let estimate = self.memory_estimate(width, height);
+        if estimate > budget {
+            return Err(JobError::Options(format!(
+                "a {width}×{height} render with these AOVs needs about {} of buffers, more than \
+                 the memory budget of {} (--max-memory; the default is half of physical \
+                 memory): render smaller, with fewer AOVs, or in tiles of the image with \
+                 --shard and glint merge",
+                human_bytes(estimate),
+                human_bytes(budget)
+            )));
+        }
+        Ok(())
+    }
+
+    /// Whether the job writes a camera sidecar beside its image (`--sidecar`, or
+    /// `--annotations`, which the sidecar holds).
+    pub fn writes_sidecar(&self) -> bool {
+        self.output
+            .as_ref()
+            .is_some_and(|o| o.sidecar || self.settings.aovs.annotations)
+            && !matches!(self.samples, Samples::Range(_) | Samples::Shard { .. })
+    }
+
+    /// Adds the files this job writes (its image or partial EXR, its sidecar) and reads (the
+    /// scene with its buffers and images, lights files, the environment map) to `plan`
+    /// ([`OutputPlan`]); `origin` names the job in messages (`[[job]] 2`; empty for a single
+    /// render). Fails when an output would replace an input or another output, or a file is
+    /// not a regular file.
+    pub fn plan_files(&self, plan: &mut OutputPlan, origin: &str) -> Result<(), PlanError> {
+        self.plan_files_with(plan, origin, true)
+    }
+
+    /// [`Self::plan_files`]; the scene's buffers and images only when `scene_files`.
+    fn plan_files_with(
+        &self,
+        plan: &mut OutputPlan,
+        origin: &str,
+        scene_files: bool,
+    ) -> Result<(), PlanError> {
+        let of = if origin.is_empty() {
+            String::new()
+        } else {
+            format!(" of {origin}")
+        };
+        if let SceneSource::File(path) = &self.scene {
+            let label = path.display().to_string();
+            if scene_files {
+                plan.scene(path, &label)?;
+            } else {
+                plan.input(path, format!("the scene {label}"))?;
+            }
+        }
+        for light in &self.lights {
+            if let LightSource::File(path) = light {
+                plan.input(path, "a lights file")?;
+            }
+        }
+        if let Some(EnvironmentSource::File { path, .. }) = &self.environment {
+            plan.input(path, "the environment map")?;
+        }
+        if let Some(out) = &self.output {
+            let partial = matches!(self.samples, Samples::Range(_) | Samples::Shard { .. });
+            let kind = if partial {
+                "the partial EXR"
+            } else {
+                "the image"
+            };
+            plan.output(&out.path, format!("{kind}{of}"))?;
+            if self.writes_sidecar() {
+                plan.output(
+                    &crate::output::sidecar_path(&out.path),
+                    format!("the sidecar{of} (named after {})", out.path.display()),
+                )?;
+            }
+        }
+        Ok(())
     }
 
     /// Checks the camera choice against `scene` (a camera index that exists) without building
@@ -224,6 +374,18 @@ impl Job {
                 LightSource::File(path) => {
                     lights.extend(light_spec::load_lights_file(path).map_err(JobError::LightsFile)?)
                 }
+            }
+        }
+        // The bound the loader puts on a glTF file's lights, for the job's own.
+        for light in &lights {
+            if let Light::Point { position, .. } | Light::Spot { position, .. } = light
+                && !within_bounds(*position)
+            {
+                return Err(JobError::Options(format!(
+                    "an added light is at {position}, beyond ±{:e} where f32 rays lose all \
+                     precision (the bound glTF lights get)",
+                    crate::accel::MAX_COORDINATE
+                )));
             }
         }
         Ok(lights)

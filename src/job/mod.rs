@@ -90,6 +90,11 @@ pub struct Job {
     /// the albedo and normal AOVs are rendered for it, PNG gets the denoised image, EXR the
     /// denoised one with the noisy radiance as its `noisy.R/G/B` layer.
     pub denoise: bool,
+    /// Most bytes the render's own buffers (film, AOVs, resolved images, the denoiser's and the
+    /// encoder's copies) may take, estimated before they are allocated ([`Job::memory_estimate`];
+    /// `--max-memory`). `None`: [`crate::output::budget::memory_budget`] (half of physical
+    /// memory, or `GLINT_MAX_MEMORY`).
+    pub max_memory: Option<u64>,
 }
 
 /// The flow AOVs' time step when none is given: one frame at 24 frames per second.
@@ -118,6 +123,7 @@ impl Default for Job {
             flow_dt: None,
             categories: Vec::new(),
             denoise: false,
+            max_memory: None,
         }
     }
 }

@@ -119,6 +119,8 @@ fn run_in_scene(
         environment,
         settings,
     } = &completion;
+    // The render's buffers against the memory budget, before they are allocated.
+    job.check_memory(settings.width, settings.height)?;
     let inputs = RenderInputs {
         scene: &prepared.scene,
         lights,
@@ -209,11 +211,18 @@ fn run_in_scene(
         &image_name,
         &projection,
         job.selection.time,
-        job.selection.scene,
+        // The scene rendered: the one asked for, else the file's default scene.
+        job.selection.scene.or_else(|| match &job.scene {
+            crate::scene::SceneSource::File(path) => {
+                crate::output::fingerprint::default_scene_index(path)
+            }
+            crate::scene::SceneSource::Demo => None,
+        }),
         flows.then(|| job.flow_dt.unwrap_or(super::DEFAULT_FLOW_DT)),
         ground_truth_channels(&aovs),
     );
     // Per-instance annotations go into the sidecar, which they make written.
+    sidecar.annotated = settings.aovs.annotations;
     if let Some(counts) = &aovs.instance_samples {
         let categories: BTreeMap<String, String> = job.categories.iter().cloned().collect();
         sidecar.instances = annotate(&prepared.scene, counts, &categories);
@@ -225,32 +234,36 @@ fn run_in_scene(
         (image, aovs, None, None)
     };
     if let Some(out) = output {
-        match OutputFormat::from_path(&out.path)? {
-            OutputFormat::Png => write_png(
-                &out.path,
-                &image,
-                PngOptions {
-                    exposure_ev: out.exposure_ev,
-                    depth: if out.png16 {
-                        PngDepth::Sixteen
-                    } else {
-                        PngDepth::Eight
-                    },
-                },
-            ),
-            OutputFormat::Exr => {
-                // One text attribute only: the exr crate keeps them in a hash map, so two
-                // would be written in an order that changes from run to run. A `noisy` layer
-                // is what marks a denoised file.
-                let attributes = [("glint.brdf", settings.brdf.name())];
-                let layers: Vec<(&str, &Image<Vec3>)> =
-                    noisy.iter().map(|noisy| ("noisy", noisy)).collect();
-                write_exr_layers(&out.path, &image, &aovs, &layers, &attributes)
+        // One unit: the sidecar first, the image last, renamed only when both are complete
+        // (a present image means the job's every output is present).
+        crate::output::atomic::write_together(|| {
+            if job.writes_sidecar() {
+                write_sidecar(&sidecar_path(&out.path), &sidecar)?;
             }
-        }?;
-        if out.sidecar || settings.aovs.annotations {
-            write_sidecar(&sidecar_path(&out.path), &sidecar)?;
-        }
+            match OutputFormat::from_path(&out.path)? {
+                OutputFormat::Png => write_png(
+                    &out.path,
+                    &image,
+                    PngOptions {
+                        exposure_ev: out.exposure_ev,
+                        depth: if out.png16 {
+                            PngDepth::Sixteen
+                        } else {
+                            PngDepth::Eight
+                        },
+                    },
+                ),
+                OutputFormat::Exr => {
+                    // One text attribute only: the exr crate keeps them in a hash map, so two
+                    // would be written in an order that changes from run to run. A `noisy`
+                    // layer is what marks a denoised file.
+                    let attributes = [("glint.brdf", settings.brdf.name())];
+                    let layers: Vec<(&str, &Image<Vec3>)> =
+                        noisy.iter().map(|noisy| ("noisy", noisy)).collect();
+                    write_exr_layers(&out.path, &image, &aovs, &layers, &attributes)
+                }
+            }
+        })?;
     }
     Ok(done(
         samples,

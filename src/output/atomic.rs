@@ -8,6 +8,18 @@
 //! with SIGKILL cannot remove its temporary file; [`stray_temps`] finds such leftovers by
 //! name, and `glint batch` removes those of its own outputs (see `batch::claim`).
 //!
+//! **Jobs of several files.** [`write_together`] makes the atomic writes inside it one unit:
+//! each file is written to its temporary name, and only when every one of them is complete
+//! are they renamed, in the order they were written (a job writes its image last, so a
+//! present image means every other output of the job is present too). A failure before the
+//! renames leaves no output; a failed rename removes the files already renamed by the unit.
+//!
+//! **Fault injection (tests).** In builds with debug assertions, the environment variable
+//! `GLINT_TEST_FAIL_WRITE=NAME` fails the write of every file named `NAME` as a full disk
+//! would, `GLINT_TEST_FAIL_WRITE=rename:NAME` fails its rename, and
+//! `GLINT_TEST_FAIL_WRITE=kill:NAME` aborts the process (SIGABRT: no cleanup runs, as after a
+//! SIGKILL) just before that rename; several, comma-separated. Release builds never read it.
+//!
 //! **Mode.** The temporary file is created by `open(O_CREAT | O_EXCL)` with mode 0666, which
 //! the kernel reduces by the process's umask, so outputs get the mode every other program's
 //! new files get (0644 under umask 022). (The `tempfile` crate creates 0600 files, which a
@@ -42,6 +54,11 @@ where
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    if injected("", &name) {
+        return Err(io(std::io::Error::other(
+            "no space left on device (injected by GLINT_TEST_FAIL_WRITE)",
+        )));
+    }
     let (mut file, temp) = create_temp(folder, &name).map_err(io)?;
     // Removes the temporary file on every early return and on unwinding.
     let mut guard = RemoveOnDrop(Some(temp));
@@ -53,16 +70,117 @@ where
     file.sync_all().map_err(io)?;
     drop(file);
     let temp = guard.0.take().unwrap_or_default();
-    if let Err(e) = std::fs::rename(&temp, path) {
-        let _ = std::fs::remove_file(&temp);
-        return Err(io(e));
+    let deferred = UNIT.with(|unit| match unit.borrow_mut().as_mut() {
+        Some(staged) => {
+            staged.push((temp.clone(), path.to_path_buf()));
+            true
+        }
+        None => false,
+    });
+    if deferred {
+        return Ok(());
+    }
+    commit(&temp, path).map_err(io)
+}
+
+/// Renames the complete temporary file `temp` over `path` and makes the rename durable.
+fn commit(temp: &Path, path: &Path) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if injected("kill:", &name) {
+        std::process::abort();
+    }
+    let renamed = if injected("rename:", &name) {
+        Err(std::io::Error::other(
+            "rename refused (injected by GLINT_TEST_FAIL_WRITE)",
+        ))
+    } else {
+        std::fs::rename(temp, path)
+    };
+    if let Err(e) = renamed {
+        let _ = std::fs::remove_file(temp);
+        return Err(e);
     }
     // Makes the rename itself durable; a folder that cannot be opened or synced (some
     // network file systems) only loses that guarantee.
-    if let Ok(dir) = File::open(folder) {
+    if let Ok(dir) = File::open(folder_of(path)) {
         let _ = dir.sync_all();
     }
     Ok(())
+}
+
+thread_local! {
+    /// The files staged by the [`write_together`] running on this thread: (temporary, final).
+    static UNIT: std::cell::RefCell<Option<Vec<(PathBuf, PathBuf)>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `write`, whose atomic writes on this thread ([`write_atomically`] and every writer
+/// built on it) become one unit: each is written to its temporary file, and when `write`
+/// succeeds they are renamed in the order written. When `write` fails, no file is renamed
+/// and every temporary is removed; when a rename fails, the files the unit renamed before it
+/// are removed, so that no output of the unit is left looking complete. Nested calls join
+/// the outer unit.
+pub fn write_together<F>(write: F) -> Result<(), OutputError>
+where
+    F: FnOnce() -> Result<(), OutputError>,
+{
+    let outer = UNIT.with(|unit| unit.borrow().is_some());
+    if outer {
+        return write();
+    }
+    UNIT.with(|unit| *unit.borrow_mut() = Some(Vec::new()));
+    // Takes the staged files out on every exit, a panic's unwinding included.
+    struct Staged;
+    impl Drop for Staged {
+        fn drop(&mut self) {
+            let left = UNIT
+                .with(|unit| unit.borrow_mut().take())
+                .unwrap_or_default();
+            for (temp, _) in left {
+                let _ = std::fs::remove_file(temp);
+            }
+        }
+    }
+    let staged_guard = Staged;
+    write()?;
+    let staged = UNIT
+        .with(|unit| unit.borrow_mut().replace(Vec::new()))
+        .unwrap_or_default();
+    drop(staged_guard);
+    for (k, (temp, path)) in staged.iter().enumerate() {
+        if let Err(source) = commit(temp, path) {
+            for (_, done) in &staged[..k] {
+                let _ = std::fs::remove_file(done);
+            }
+            for (later, _) in &staged[k + 1..] {
+                let _ = std::fs::remove_file(later);
+            }
+            return Err(OutputError::Io {
+                path: path.clone(),
+                source,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The test-only fault-injection variable (see the module documentation).
+pub const FAIL_WRITE_VAR: &str = "GLINT_TEST_FAIL_WRITE";
+
+/// Whether `GLINT_TEST_FAIL_WRITE` asks to fail the step `kind` (`""`: the write,
+/// `rename:`, `kill:`) of the file `name`; always false in release builds.
+fn injected(kind: &str, name: &str) -> bool {
+    #[cfg(debug_assertions)]
+    if let Ok(wanted) = std::env::var(FAIL_WRITE_VAR) {
+        return wanted.split(',').any(|w| {
+            w.strip_prefix(kind).is_some_and(|n| n == name) && (kind.is_empty() == !w.contains(':'))
+        });
+    }
+    let _ = (kind, name);
+    false
 }
 
 /// The folder `path` is in (`.` for a bare file name).

@@ -119,19 +119,19 @@ fn hash_scene_files(hash: &mut Xxh3, path: &Path) -> std::io::Result<()> {
 }
 
 /// An external file a scene reads.
-struct ExternalFile {
+pub(crate) struct ExternalFile {
     /// "buffer 0", "image 3".
-    what: String,
+    pub(crate) what: String,
     /// The URI as the scene spells it.
-    uri: String,
+    pub(crate) uri: String,
     /// Where the loader reads it.
-    path: PathBuf,
+    pub(crate) path: PathBuf,
 }
 
 /// The external files the scene at `path` names in its `buffers` and `images`, in that
 /// order. A JSON that does not parse names none (such a scene does not load, so no part of it
 /// is ever rendered).
-fn external_files(path: &Path) -> std::io::Result<Vec<ExternalFile>> {
+pub(crate) fn external_files(path: &Path) -> std::io::Result<Vec<ExternalFile>> {
     let json =
         scene_json(path).map_err(|e| unreadable(&format!("the scene {}", path.display()), e))?;
     let Ok(root) = serde_json::from_slice::<serde_json::Value>(&json) else {
@@ -155,6 +155,18 @@ fn external_files(path: &Path) -> std::io::Result<Vec<ExternalFile>> {
         }
     }
     Ok(files)
+}
+
+/// The scene a glTF file renders when none is asked for: its `scene` property, else its first
+/// scene (as the loader picks); `None` when the file has no scene or cannot be read.
+pub fn default_scene_index(path: &Path) -> Option<usize> {
+    let json = scene_json(path).ok()?;
+    let root = serde_json::from_slice::<serde_json::Value>(&json).ok()?;
+    let scenes = root.get("scenes").and_then(|s| s.as_array())?.len();
+    match root.get("scene").and_then(|s| s.as_u64()) {
+        Some(i) if (i as usize) < scenes => Some(i as usize),
+        _ => (scenes > 0).then_some(0),
+    }
 }
 
 /// The JSON of the scene file at `path`: the whole file, or a GLB's JSON chunk (empty when the

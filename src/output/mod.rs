@@ -4,16 +4,19 @@
 //! temporary behind, and an existing file is replaced only by a complete one.
 
 pub mod atomic;
+pub mod budget;
 pub mod exr;
 pub mod fingerprint;
 pub mod instances;
 pub mod partial;
+pub mod plan;
 pub mod png;
 pub mod rle;
 pub mod sidecar;
 
 pub use atomic::write_atomically;
 pub use exr::{write_exr, write_exr_annotated, write_exr_layers};
+pub use plan::{OutputPlan, PlanError};
 pub use png::{PngDepth, PngOptions, write_png};
 pub use sidecar::{Sidecar, read_sidecar, sidecar_path, write_sidecar};
 

@@ -147,6 +147,16 @@ pub fn read_partial_exr(path: &Path) -> Result<PartialImage, PartError> {
 /// glint versions before the tag).
 pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<SceneTag>), PartError> {
     use exr::prelude::{ReadChannels, ReadLayers};
+    // The header's declared size against the budgets, before any pixel is allocated.
+    crate::output::budget::check_exr(
+        path,
+        crate::render::MAX_PIXELS,
+        crate::output::budget::memory_budget(),
+    )
+    .map_err(|message| PartError::Read {
+        path: path.to_path_buf(),
+        message,
+    })?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -175,6 +185,12 @@ pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<Scen
         .map_err(|_| not_partial(format!("'{SEED}' is not a seed")))?;
     let samples = parse_sample_range(&text(SAMPLES)?)
         .map_err(|e| not_partial(format!("'{SAMPLES}': {e}")))?;
+    if samples.end > spp {
+        return Err(not_partial(format!(
+            "its samples {}..{} exceed its {spp} samples per pixel",
+            samples.start, samples.end
+        )));
+    }
     let tag = match (text(SCENE), text(FINGERPRINT)) {
         (Ok(scene), Ok(fingerprint)) => Some(SceneTag {
             scene,
@@ -209,6 +225,7 @@ pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<Scen
     let radiance_sum =
         image3(["R", "G", "B"]).ok_or_else(|| not_partial("no R, G, B channels".into()))?;
     let weight = channel("weight").ok_or_else(|| not_partial("no 'weight' channel".into()))?;
+    check_weights(&weight, samples.len() as u64).map_err(not_partial)?;
     let part = PartialImage {
         spp,
         seed,
@@ -236,6 +253,24 @@ pub fn read_partial_exr_tagged(path: &Path) -> Result<(PartialImage, Option<Scen
         },
     };
     Ok((part, tag))
+}
+
+/// Refuses weights no render writes: each pixel's summed sample weight is a finite number, 0
+/// or at least `f32::MIN_POSITIVE` in size (a subnormal weight would turn the merged mean into
+/// infinity), and at most 64 per sample of the part (every filter weighs a sample at most 1
+/// per pixel; 64 leaves room).
+fn check_weights(weights: &[f32], samples: u64) -> Result<(), String> {
+    let largest = samples as f32 * 64.0;
+    match weights.iter().position(|&w| {
+        !(w.is_finite() && (w == 0.0 || w.abs() >= f32::MIN_POSITIVE) && w.abs() <= largest)
+    }) {
+        None => Ok(()),
+        Some(i) => Err(format!(
+            "its 'weight' at pixel {i} is {:e}, not a summed weight of {samples} samples \
+             (finite, 0 or normal, at most {largest})",
+            weights[i]
+        )),
+    }
 }
 
 #[cfg(test)]

@@ -55,7 +55,9 @@ pub struct Sidecar {
     pub pixel_centers: String,
     /// The animation time rendered, seconds (`None`: the rest pose, animations not applied).
     pub time: Option<f32>,
-    /// The glTF scene index rendered (`None`: the file's default scene).
+    /// The glTF scene index rendered: the one asked for (`--scene`), else the file's default
+    /// scene (its `scene` property, else its first); `None` only for a file without scenes
+    /// (its root nodes render) and the demo scene.
     pub scene_index: Option<usize>,
     /// The camera.
     pub camera: CameraRecord,
@@ -66,6 +68,12 @@ pub struct Sidecar {
     pub channels: Vec<String>,
     /// Per-instance annotations ([`InstanceAnnotation`]); empty unless requested.
     pub instances: Vec<InstanceAnnotation>,
+    /// Whether annotations were requested (`--annotations`): an annotated image with no
+    /// visible instance has empty `instances` too, and only this tells the two apart (the
+    /// batch's resume and `--coco` re-render jobs whose sidecars lack them). Absent in
+    /// sidecars of older glint versions: false.
+    #[serde(default)]
+    pub annotated: bool,
 }
 
 /// The camera of a sidecar.
@@ -186,6 +194,7 @@ impl Sidecar {
             flow_dt,
             channels,
             instances: Vec::new(),
+            annotated: false,
         }
     }
 

@@ -240,8 +240,20 @@ fn flow_to(
     other
         .accel
         .intersect_many(&rays, &mut seen, Coherence::Incoherent);
-    for ((index, displacement, _, distance), seen) in candidates.iter().zip(&seen) {
-        let hidden = match (seen, hits.pixels.get(*index).copied().flatten()) {
+    // The camera's visibility rules at the other time: an alpha cut-out or a culled back
+    // face in front of the point hides nothing, as it hides nothing from the camera.
+    let visibility = super::visibility::Visibility::new(other.scene, true, true, 0);
+    let textures = crate::texture::TextureEvaluator {
+        textures: &other.scene.textures,
+        mipmaps: &[],
+        filter: crate::texture::TextureFilter::default(),
+    };
+    for ((index, displacement, ray, distance), seen) in candidates.iter().zip(&seen) {
+        let seen = match (&visibility, seen) {
+            (Some(v), Some(s)) => v.first_camera_hit(other.scene, &textures, other.accel, ray, *s),
+            _ => *seen,
+        };
+        let hidden = match (&seen, hits.pixels.get(*index).copied().flatten()) {
             (Some(s), Some(h)) => {
                 let same =
                     s.geom_id == h.geom_id && s.instance == h.instance && s.prim_id == h.prim_id;

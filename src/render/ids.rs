@@ -27,6 +27,7 @@
 use super::film::{AovSelection, Image, TileSums};
 use super::stats::RayCounts;
 use super::tiles::Tile;
+use super::visibility::{RayBatch, RayKind};
 use super::wavefront::TileContext;
 use crate::accel::Hit;
 use crate::scene::Scene;
@@ -121,7 +122,14 @@ pub(super) fn trace_centre_ids(
     if !(aovs.instance_id || aovs.material_id) {
         return;
     }
-    let (rays, hits) = ctx.trace_pixel_centres(tile);
+    let (rays, mut hits) = ctx.trace_pixel_centres(tile);
+    // The camera's visibility rules (alpha cut-outs, culling), as the render and the
+    // geometric AOVs' centre hits follow them: an ID is what the pixel shows.
+    if let Some(visibility) = &ctx.visibility {
+        // The batch identity the geometric AOVs' centre rays use, so both decide alike.
+        let batch = RayBatch::new(tile, u32::MAX, 0);
+        visibility.resolve_hits(ctx, &rays, &mut hits, RayKind::Camera, batch, counts);
+    }
     counts.camera += rays.len() as u64;
     let ids = |f: fn(&Scene, &Hit) -> u32| -> Vec<u32> {
         hits.iter()

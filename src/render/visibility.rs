@@ -69,6 +69,7 @@ use super::wavefront::TileContext;
 use crate::accel::{Hit, Ray};
 use crate::geometry::SurfaceInteraction;
 use crate::scene::{AlphaMode, Material, Mesh, Scene, TextureRef};
+use crate::texture::TextureEvaluator;
 use std::cmp::Ordering;
 
 /// Most hits one ray may reject before it keeps the last one (a ray through more alpha layers
@@ -289,13 +290,13 @@ impl Visibility {
         match rule.coverage {
             Coverage::Opaque => 1.0,
             Coverage::Mask { cutoff } => {
-                if alpha_at(ctx, rule, mesh, si) >= cutoff {
+                if alpha_at(&ctx.textures(), rule, mesh, si) >= cutoff {
                     1.0
                 } else {
                     0.0
                 }
             }
-            Coverage::Blend => alpha_at(ctx, rule, mesh, si).clamp(0.0, 1.0),
+            Coverage::Blend => alpha_at(&ctx.textures(), rule, mesh, si).clamp(0.0, 1.0),
         }
     }
 
@@ -354,6 +355,19 @@ impl Visibility {
     /// Whether `hit` of `ray` counts.
     #[inline]
     fn accepts(&self, ctx: &TileContext<'_>, ray: &Ray, hit: &Hit, camera: bool, key: u64) -> bool {
+        self.accepts_in(ctx.scene, &ctx.textures(), ray, hit, camera, key)
+    }
+
+    /// [`Self::accepts`] with the scene and texture lookups given, not a tile's context.
+    fn accepts_in(
+        &self,
+        scene: &Scene,
+        textures: &TextureEvaluator<'_>,
+        ray: &Ray,
+        hit: &Hit,
+        camera: bool,
+        key: u64,
+    ) -> bool {
         let Some(rule) = self.rule(hit) else {
             return true;
         };
@@ -363,7 +377,7 @@ impl Visibility {
         if rule.coverage == Coverage::Opaque {
             return true;
         }
-        let Some(mesh) = ctx.scene.meshes.get(hit.geom_id as usize) else {
+        let Some(mesh) = scene.meshes.get(hit.geom_id as usize) else {
             return true;
         };
         // A hit the shading cannot use (degenerate triangle) keeps today's behaviour: it
@@ -371,12 +385,34 @@ impl Visibility {
         let Some(si) = SurfaceInteraction::from_hit(mesh, hit, ray.dir) else {
             return true;
         };
-        let alpha = alpha_at(ctx, rule, mesh, &si);
+        let alpha = alpha_at(textures, rule, mesh, &si);
         match rule.coverage {
             Coverage::Opaque => true,
             Coverage::Mask { cutoff } => alpha >= cutoff,
             Coverage::Blend => alpha >= 1.0 || (alpha > 0.0 && blend_uniform(key, hit) < alpha),
         }
+    }
+
+    /// The first hit a camera ray accepts along `ray`, starting from the backend's `hit`,
+    /// for a ray traced outside a render (the flow's visibility ray in the scene at another
+    /// time, `scene` with its ray queries `accel`): the same culling and alpha rules, alpha
+    /// read through `textures` without a footprint, BLEND decided with key 0.
+    pub(crate) fn first_camera_hit(
+        &self,
+        scene: &Scene,
+        textures: &TextureEvaluator<'_>,
+        accel: &dyn crate::accel::Accel,
+        ray: &Ray,
+        hit: Hit,
+    ) -> Option<Hit> {
+        if !self.rule(&hit).is_some_and(|r| r.tests(true)) {
+            return Some(hit);
+        }
+        let accepts = |ray: &Ray, hit: &Hit| self.accepts_in(scene, textures, ray, hit, true, 0);
+        let culled = |ray: &Ray, hit: &Hit| self.culled(ray, hit, true);
+        let retrace = |ray: &Ray| accel.intersect(ray);
+        let mut retraced = 0;
+        first_accepted_with(ray, hit, accepts, culled, retrace, &mut retraced)
     }
 }
 
@@ -454,7 +490,7 @@ fn rule(
 /// α at the surface point `si` of `mesh`.
 #[inline]
 fn alpha_at(
-    ctx: &TileContext<'_>,
+    textures: &TextureEvaluator<'_>,
     rule: &SurfaceRule,
     mesh: &Mesh,
     si: &SurfaceInteraction,
@@ -471,7 +507,7 @@ fn alpha_at(
             si,
             footprint: None,
         };
-        alpha *= ctx.textures().value(&at, t).w;
+        alpha *= textures.value(&at, t).w;
     }
     alpha
 }

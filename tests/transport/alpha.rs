@@ -523,3 +523,54 @@ fn blend_images_do_not_depend_on_thread_count() {
         );
     }
 }
+
+/// Issue 36: the ID AOVs follow the camera's visibility rules. A MASK front quad cut away on
+/// its left half (texture α 0 there, 1 on the right) before the opaque background: every
+/// pixel's `instance_id` and `material_id` name what the pixel shows, the background (mesh 1,
+/// material 1) through the hole and the front quad (mesh 0, material 0) elsewhere, on every
+/// backend; the radiance agrees (B through the hole, C elsewhere).
+#[test]
+fn id_aovs_show_the_surface_behind_an_alpha_cut_out() {
+    let (scene, camera) = layered(
+        Material {
+            base_color_texture: texture_ref(),
+            ..unlit(C, 1.0, AlphaMode::Mask { cutoff: 0.5 })
+        },
+        front_quad(),
+        vec![alpha_texture(&[&[0.0, 1.0]])],
+    );
+    let (w, h) = (8, 4);
+    let settings = RenderSettings {
+        aovs: glint::render::AovSelection {
+            instance_id: true,
+            material_id: true,
+            ..Default::default()
+        },
+        ..centre_settings(w, h)
+    };
+    for &backend in BackendKind::available() {
+        let out = render_with(&scene, &camera, backend, &settings);
+        let ids = out.aovs.instance_id.as_ref().expect("instance_id");
+        let materials = out.aovs.material_id.as_ref().expect("material_id");
+        for y in 0..h {
+            for x in 0..w {
+                let i = (y * w + x) as usize;
+                // The camera frames x ∈ [−0.5, 0.5] of the quad's [−1, 1]: texture u =
+                // (x + 1)/2 < 0.5 (the hole) for the left half of the image.
+                let hole = x < w / 2;
+                let want = if hole { 1 } else { 0 };
+                assert_eq!(ids.pixels[i], want, "{backend}: instance_id at ({x}, {y})");
+                assert_eq!(
+                    materials.pixels[i], want,
+                    "{backend}: material_id at ({x}, {y})"
+                );
+                let colour = if hole { B } else { C };
+                assert!(
+                    (out.image.pixels[i] - colour).abs().max_element() < 1e-4,
+                    "{backend}: radiance {} at ({x}, {y})",
+                    out.image.pixels[i]
+                );
+            }
+        }
+    }
+}

@@ -110,7 +110,10 @@ fn decode_one(
     let stream = stream_bytes(root, compressed.buffer_view, buffers)?;
     // The decoder's own ceilings: what is left of the geometry budget.
     let left = geometry.left();
+    // Points and faces as the stream declares them, refused before the decoder allocates
+    // for them: a point holds at least a position (12 bytes), a face three indices.
     let limits = draco_core::DecodeLimits::default()
+        .with_max_points(left / 12)
         .with_max_faces(left / 12)
         .with_max_decoded_bytes(left);
     let mesh = crate::panics::catch(|| {

@@ -76,7 +76,13 @@ pub fn camera(placed: &PlacedNode<'_>, origin: Origin<'_>) -> Result<Option<Came
                     "xmag {xmag} and ymag {ymag} must be finite and non-zero"
                 )));
             }
-            Projection::Orthographic { xmag, ymag }
+            // glTF says xmag/ymag SHOULD NOT be negative; a negative one means its
+            // magnitude (the half-extent), so the image is never mirrored and K's fx, fy are
+            // positive (docs/ground-truth.md).
+            Projection::Orthographic {
+                xmag: xmag.abs(),
+                ymag: ymag.abs(),
+            }
         }
     };
     Ok(Some(Camera {
