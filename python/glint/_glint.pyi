@@ -149,6 +149,7 @@ def load(
     backend: Optional[Literal["embree", "bvh"]] = None,
     scene: Optional[int] = None,
     time: Optional[float] = None,
+    variant: Optional[str] = None,
     asset_root: Optional[PathLike] = None,
     max_texture_pixels: int = 67108864,
 ) -> Scene:

@@ -75,6 +75,10 @@ pub struct RenderArgs {
     /// Sample every animation at this time in seconds [default: none; the rest pose].
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time: Option<f32>,
+    /// Render the materials of this KHR_materials_variants variant (`glint info FILE` lists
+    /// them) [default: every primitive's default material].
+    #[arg(long, value_name = "NAME")]
+    pub variant: Option<String>,
     /// Which of the scene's cameras to use (index, from 0) [default: the first, or a default
     /// camera framing the scene if it has none].
     #[arg(long)]
@@ -308,6 +312,7 @@ impl RenderArgs {
             selection: crate::scene::gltf::SceneSelection {
                 scene: self.scene_index,
                 time: self.time,
+                variant: self.variant.clone(),
             },
             load_options: self.load_options(),
             backend: self.backend,
