@@ -92,6 +92,10 @@ pub struct RenderArgs {
     /// Maximum number of mirror bounces.
     #[arg(long, default_value_t = Job::default().settings.max_depth)]
     pub max_depth: u32,
+    /// Maximum number of transmission bounces (refractions, and reflections inside glass),
+    /// counted apart from --max-depth.
+    #[arg(long, default_value_t = Job::default().settings.max_transmission_depth)]
+    pub max_transmission_depth: u32,
     /// Exposure in stops for PNG output (radiance × 2^EV).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
@@ -333,6 +337,7 @@ impl RenderArgs {
                 spp: self.spp,
                 seed: self.seed,
                 max_depth: self.max_depth,
+                max_transmission_depth: self.max_transmission_depth,
                 threads: self.threads,
                 aovs: AovSelection {
                     annotations: self.annotations,
