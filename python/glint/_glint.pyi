@@ -102,6 +102,7 @@ class Scene:
         integrator: Literal["path", "direct"] = "path",
         brdf: Literal["compensated", "spec"] = "compensated",
         max_depth: int = 8,
+        max_transmission_depth: int = 64,
         aovs: Sequence[AovName] = (),
         threads: int = 0,
         filter: str = "box",
