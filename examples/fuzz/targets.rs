@@ -247,7 +247,11 @@ pub fn load_options() -> LoadOptions {
 /// Loads a GLB or `.gltf` with its in-memory files, checks the error names the file, and
 /// builds the obvhs BVH over a small result.
 fn load(main: &[u8], files: &MemoryFiles, time: Option<f32>) -> Outcome {
-    let selection = SceneSelection { scene: None, time };
+    let selection = SceneSelection {
+        scene: None,
+        time,
+        variant: None,
+    };
     match glint::scene::gltf::load_from_memory(main, LABEL, files, &selection, &load_options()) {
         Err(err) => {
             let message = err.to_string();

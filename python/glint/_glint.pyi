@@ -102,6 +102,7 @@ class Scene:
         integrator: Literal["path", "direct"] = "path",
         brdf: Literal["compensated", "spec"] = "compensated",
         max_depth: int = 8,
+        max_transmission_depth: int = 64,
         aovs: Sequence[AovName] = (),
         threads: int = 0,
         filter: str = "box",
@@ -149,6 +150,7 @@ def load(
     backend: Optional[Literal["embree", "bvh"]] = None,
     scene: Optional[int] = None,
     time: Optional[float] = None,
+    variant: Optional[str] = None,
     asset_root: Optional[PathLike] = None,
     max_texture_pixels: int = 67108864,
 ) -> Scene:

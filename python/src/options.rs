@@ -33,7 +33,7 @@ pub const AOV_NAMES: [&str; 11] = [
 ];
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
-pub const RENDER_KEYS: [&str; 32] = [
+pub const RENDER_KEYS: [&str; 33] = [
     "sidecar",
     "annotations",
     "categories",
@@ -53,6 +53,7 @@ pub const RENDER_KEYS: [&str; 32] = [
     "integrator",
     "brdf",
     "max_depth",
+    "max_transmission_depth",
     "aovs",
     "threads",
     "filter",
@@ -185,6 +186,8 @@ pub fn job_from_kwargs(
             spp: get(kwargs, "spp")?.unwrap_or(defaults.settings.spp),
             seed: get(kwargs, "seed")?.unwrap_or(defaults.settings.seed),
             max_depth: get(kwargs, "max_depth")?.unwrap_or(defaults.settings.max_depth),
+            max_transmission_depth: get(kwargs, "max_transmission_depth")?
+                .unwrap_or(defaults.settings.max_transmission_depth),
             threads: get(kwargs, "threads")?.unwrap_or(defaults.settings.threads),
             aovs,
             filter,

@@ -94,7 +94,9 @@ impl Camera {
 /// prepares it for rendering (ray-query structure, MIP chains, area lights).
 ///
 /// backend: "embree" (default when compiled in) or "bvh". scene: which of the file's scenes
-/// (glTF `scenes` index). time: sample animations at this many seconds. asset_root: every
+/// (glTF `scenes` index). time: sample animations at this many seconds. variant: render the
+/// materials of this KHR_materials_variants variant (default: the default materials; an
+/// unknown name raises GlintError listing the file's variants). asset_root: every
 /// file the glTF refers to must resolve inside this folder. max_texture_pixels: the most
 /// texels one texture may have. max_geometry_bytes: the most bytes of geometry the scene may
 /// decode and build (Draco and meshopt streams, vertices and indices), checked before
@@ -104,13 +106,14 @@ impl Camera {
 // Python keyword arguments, one parameter each: pyo3 maps them to this signature.
 #[allow(clippy::too_many_arguments)]
 #[pyfunction]
-#[pyo3(signature = (path=None, *, backend=None, scene=None, time=None, asset_root=None, max_texture_pixels=DEFAULT_MAX_TEXTURE_PIXELS, max_geometry_bytes=DEFAULT_MAX_GEOMETRY_BYTES))]
+#[pyo3(signature = (path=None, *, backend=None, scene=None, time=None, variant=None, asset_root=None, max_texture_pixels=DEFAULT_MAX_TEXTURE_PIXELS, max_geometry_bytes=DEFAULT_MAX_GEOMETRY_BYTES))]
 pub fn load(
     py: Python<'_>,
     path: Option<PathBuf>,
     backend: Option<String>,
     scene: Option<usize>,
     time: Option<f32>,
+    variant: Option<String>,
     asset_root: Option<PathBuf>,
     max_texture_pixels: u64,
     max_geometry_bytes: u64,
@@ -125,7 +128,11 @@ pub fn load(
         Some(path) => SceneSource::File(path),
         None => SceneSource::Demo,
     };
-    let selection = SceneSelection { scene, time };
+    let selection = SceneSelection {
+        scene,
+        time,
+        variant,
+    };
     let options = LoadOptions {
         asset_root,
         max_texture_pixels,
@@ -240,7 +247,7 @@ impl Scene {
         kwargs: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mut job = options::job_from_kwargs(kwargs, self.source.clone(), self.backend, &[])?;
-        job.selection = self.selection;
+        job.selection = self.selection.clone();
         job.load_options = self.load_options.clone();
         let pool = self.pool_for(job.settings.threads)?;
         let prepared = &*self.prepared;

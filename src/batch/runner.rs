@@ -332,7 +332,7 @@ fn claim_and_render(
     }
 }
 
-/// Jobs grouped by (canonical scene, backend, scene index, animation time, asset root,
+/// Jobs grouped by (canonical scene, backend, scene index, animation time, material variant, asset root,
 /// texture and geometry budgets), groups in order of first appearance: jobs share a load only if they load
 /// the same scene at the same time under the same rules.
 fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
@@ -341,6 +341,7 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
         BackendKind,
         Option<usize>,
         Option<u32>,
+        Option<String>,
         Option<PathBuf>,
         u64,
         u64,
@@ -354,6 +355,7 @@ fn groups<'a>(jobs: &[&'a Job]) -> Vec<Vec<&'a Job>> {
             job.render.backend,
             job.render.selection.scene,
             job.render.selection.time.map(f32::to_bits),
+            job.render.selection.variant.clone(),
             job.render.load_options.asset_root.clone(),
             job.render.load_options.max_texture_pixels,
             job.render.load_options.max_geometry_bytes,

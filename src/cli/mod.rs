@@ -8,6 +8,7 @@ pub mod batch;
 pub mod bench;
 pub mod check_gt;
 pub mod converge;
+pub mod info;
 pub mod job_options;
 pub mod merge;
 pub mod render;
@@ -49,6 +50,8 @@ pub enum Command {
     /// Check an output's ground truth (z, position, flow) against its camera sidecar.
     #[command(name = "check-gt")]
     CheckGt(check_gt::CheckGtArgs),
+    /// List what a glTF file holds: scenes, cameras, lights, animations, variants, extensions.
+    Info(info::InfoArgs),
 }
 
 impl Command {
@@ -62,6 +65,7 @@ impl Command {
             Command::Merge(args) => merge::run(args),
             Command::Converge(args) => converge::run(args),
             Command::CheckGt(args) => check_gt::run(args),
+            Command::Info(args) => info::run(args),
         }
     }
 
@@ -86,6 +90,7 @@ impl Command {
                 format!("measuring the convergence of {}", scene(&args.scene))
             }
             Command::CheckGt(args) => format!("checking {}", args.output.display()),
+            Command::Info(args) => format!("inspecting {}", args.file.display()),
         }
     }
 }

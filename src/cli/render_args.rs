@@ -75,6 +75,10 @@ pub struct RenderArgs {
     /// Sample every animation at this time in seconds [default: none; the rest pose].
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time: Option<f32>,
+    /// Render the materials of this KHR_materials_variants variant (`glint info FILE` lists
+    /// them) [default: every primitive's default material].
+    #[arg(long, value_name = "NAME")]
+    pub variant: Option<String>,
     /// Which of the scene's cameras to use (index, from 0) [default: the first, or a default
     /// camera framing the scene if it has none].
     #[arg(long)]
@@ -88,6 +92,10 @@ pub struct RenderArgs {
     /// Maximum number of mirror bounces.
     #[arg(long, default_value_t = Job::default().settings.max_depth)]
     pub max_depth: u32,
+    /// Maximum number of transmission bounces (refractions, and reflections inside glass),
+    /// counted apart from --max-depth.
+    #[arg(long, default_value_t = Job::default().settings.max_transmission_depth)]
+    pub max_transmission_depth: u32,
     /// Exposure in stops for PNG output (radiance × 2^EV).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
@@ -312,6 +320,7 @@ impl RenderArgs {
             selection: crate::scene::gltf::SceneSelection {
                 scene: self.scene_index,
                 time: self.time,
+                variant: self.variant.clone(),
             },
             load_options: self.load_options(),
             backend: self.backend,
@@ -332,6 +341,7 @@ impl RenderArgs {
                 spp: self.spp,
                 seed: self.seed,
                 max_depth: self.max_depth,
+                max_transmission_depth: self.max_transmission_depth,
                 threads: self.threads,
                 aovs: AovSelection {
                     annotations: self.annotations,

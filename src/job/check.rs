@@ -313,7 +313,7 @@ impl Job {
                 // animation sampled: the same camera at every time.
                 let at_rest = crate::scene::gltf::SceneSelection {
                     time: None,
-                    ..self.selection
+                    ..self.selection.clone()
                 };
                 let rest = self.scene.load_quietly(&at_rest, &self.load_options)?;
                 defaults::camera_for(&rest, None)?

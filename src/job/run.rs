@@ -320,7 +320,7 @@ fn geometric_aovs(
         };
         let at = SceneSelection {
             time: Some(time + sign * dt),
-            ..job.selection
+            ..job.selection.clone()
         };
         // The same file at another time: its warnings were printed with the render's load.
         let scene = job.scene.load_quietly(&at, &job.load_options)?;

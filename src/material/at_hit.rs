@@ -12,7 +12,8 @@
 //! 6. emission: factor × emissive texture (read only where the factor is not black), from a
 //!    front face or either face of a double-sided material (a single-sided material's back
 //!    face scatters like its front but emits nothing);
-//! 7. metallic and roughness: factors × metallic-roughness texture;
+//! 7. metallic and roughness: factors × metallic-roughness texture (or, converted from
+//!    KHR_materials_pbrSpecularGlossiness, the specular colour and glossiness texture);
 //! 8. the KHR_materials layers (their textures at the hit, the coat's own normal map);
 //! 9. the BSDF: glTF's metallic-roughness BRDF, or the layered BSDF over it.
 //!
@@ -139,7 +140,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
         None => Frame::from_normal(si.ns),
     };
     let bsdf = (q.scatters && !material.unlit).then(|| {
-        let metallic_roughness = metallic_roughness(textures, &at, material);
+        let (metallic_roughness, specular_tint) = metallic_roughness(textures, &at, material);
         let layers = match &material.layers {
             Some(l) if l.has_textures() => {
                 let mut l = layers::at_hit(textures, &at, l);
@@ -151,6 +152,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
         SurfaceBsdf::new(
             albedo,
             metallic_roughness,
+            specular_tint,
             material,
             layers.as_ref(),
             si.front_face,
@@ -169,14 +171,15 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
 
 /// The hit's metallic and roughness: the material's factors times its metallic-roughness
 /// texture's blue and green channels (glTF), clamped to [0, 1]; the factors alone without a
-/// texture.
+/// texture. With a specular-glossiness texture, also the tint its RGB puts on the specular
+/// colour, and the roughness `1 − glossiness · A` (white without one).
 #[inline]
 fn metallic_roughness(
     textures: &TextureEvaluator<'_>,
     at: &TexturePoint<'_>,
     material: &ShadingMaterial,
-) -> (f32, f32) {
-    match &material.metallic_roughness_texture {
+) -> ((f32, f32), Vec3) {
+    let (metallic, mut roughness) = match &material.metallic_roughness_texture {
         Some(t) => {
             let texel = textures.value(at, t);
             (
@@ -185,5 +188,12 @@ fn metallic_roughness(
             )
         }
         None => (material.metallic, material.roughness),
+    };
+    let mut tint = Vec3::ONE;
+    if let Some(t) = &material.specular_glossiness_texture {
+        let texel = textures.value(at, t);
+        tint = texel.truncate().max(Vec3::ZERO);
+        roughness = (1.0 - (1.0 - roughness) * texel.w).clamp(0.0, 1.0);
     }
+    ((metallic, roughness), tint)
 }

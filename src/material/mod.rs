@@ -41,6 +41,9 @@ pub struct ShadingMaterial {
     pub specular: f32,
     /// See [`ShadingMaterial::specular`].
     pub specular_color: Vec3,
+    /// Specular-glossiness texture (RGB × specular colour, A × glossiness; see
+    /// [`Material::specular_glossiness_texture`]).
+    pub specular_glossiness_texture: Option<TextureRef>,
     /// Emitted radiance factor, W/(m²·sr).
     pub emissive: Vec3,
     /// Emissive texture, if it names an existing texture.
@@ -73,6 +76,7 @@ impl ShadingMaterial {
             ior: material.ior,
             specular: material.specular,
             specular_color: material.specular_color,
+            specular_glossiness_texture: valid(&material.specular_glossiness_texture),
             emissive: material.emissive,
             emissive_texture: valid(&material.emissive_texture),
             double_sided: material.double_sided,
@@ -100,6 +104,7 @@ impl ShadingMaterial {
     pub fn textured(&self) -> bool {
         self.base_color_texture.is_some()
             || self.metallic_roughness_texture.is_some()
+            || self.specular_glossiness_texture.is_some()
             || self.emissive_texture.is_some()
             || self.normal_texture.is_some()
             || self.procedural.is_some()

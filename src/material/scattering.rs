@@ -20,19 +20,25 @@ pub enum SurfaceBsdf {
 
 impl SurfaceBsdf {
     /// The BSDF of `material` at a hit with base colour `base_color` and the hit's own
-    /// `(metallic, roughness)` (factors times the metallic-roughness texture); `layers` are
+    /// `(metallic, roughness)` (factors times the metallic-roughness texture) and
+    /// `specular_tint` (the specular-glossiness texture's RGB, white without); `layers` are
     /// the material's layers with their textures applied at the hit. `front_face` says
     /// whether the ray arrived from outside (a volume's ior ratio depends on it).
     #[inline]
     pub fn new(
         base_color: Vec3,
         (metallic, roughness): (f32, f32),
+        specular_tint: Vec3,
         material: &ShadingMaterial,
         layers: Option<&ShadingLayers>,
         front_face: bool,
     ) -> Self {
         let base = MetallicRoughnessBsdf::new(base_color, metallic, roughness)
-            .with_dielectric_fresnel(material.ior, material.specular, material.specular_color)
+            .with_dielectric_fresnel(
+                material.ior,
+                material.specular,
+                material.specular_color * specular_tint,
+            )
             .with_model(material.brdf);
         match layers {
             None => SurfaceBsdf::MetallicRoughness(base),
@@ -90,7 +96,7 @@ mod tests {
     #[test]
     fn flags_say_whether_the_surface_transmits() {
         let plain = ShadingMaterial::new(&Material::default(), 0);
-        let b = SurfaceBsdf::new(Vec3::ONE, (1.0, 1.0), &plain, None, true);
+        let b = SurfaceBsdf::new(Vec3::ONE, (1.0, 1.0), Vec3::ONE, &plain, None, true);
         assert!(!b.flags().transmits() && b.flags().has_density());
         let glass = Material {
             transmission: Some(crate::scene::layers::Transmission {
@@ -101,7 +107,14 @@ mod tests {
         };
         let glass = ShadingMaterial::new(&glass, 0);
         assert!(glass.may_transmit());
-        let b = SurfaceBsdf::new(Vec3::ONE, (0.0, 0.0), &glass, glass.layers.as_ref(), true);
+        let b = SurfaceBsdf::new(
+            Vec3::ONE,
+            (0.0, 0.0),
+            Vec3::ONE,
+            &glass,
+            glass.layers.as_ref(),
+            true,
+        );
         assert!(b.flags().transmits() && b.flags().is_specular_only());
     }
 }

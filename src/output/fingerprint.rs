@@ -72,6 +72,12 @@ impl SceneTag {
         }
         hash.update(&selection.scene.map_or(u64::MAX, |s| s as u64).to_le_bytes());
         hash.update(&selection.time.map_or(u32::MAX, f32::to_bits).to_le_bytes());
+        // Only when named, so that the tags of files rendered without one do not change.
+        if let Some(variant) = &selection.variant {
+            hash.update(b"variant\0");
+            hash.update(variant.as_bytes());
+            hash.update(b"\0");
+        }
         hash.update(&width.to_le_bytes());
         hash.update(&height.to_le_bytes());
         for x in camera.world_from_camera.to_cols_array() {
@@ -254,7 +260,14 @@ mod tests {
         std::fs::write(&b, b"{\"asset\":{\"version\":\"2.0\"} }").unwrap();
         let job = |path: &std::path::Path, time: Option<f32>| {
             let source = SceneSource::File(path.to_path_buf());
-            (source, SceneSelection { scene: None, time })
+            (
+                source,
+                SceneSelection {
+                    scene: None,
+                    time,
+                    variant: None,
+                },
+            )
         };
         let tag = |(s, t): &(SceneSource, SceneSelection), c: &Camera, w| {
             SceneTag::of(s, t, c, w, 10).unwrap().fingerprint

@@ -213,6 +213,7 @@ impl<'a> TileScheduler<'a> {
             transport: Transport {
                 integrator: settings.integrator,
                 max_depth: settings.max_depth,
+                max_transmission_depth: settings.max_transmission_depth,
                 light_strategy: settings.light_strategy,
                 russian_roulette: settings.russian_roulette,
                 environment_visible: settings.environment_visible,

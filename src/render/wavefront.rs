@@ -68,6 +68,8 @@ pub(crate) struct Transport {
     pub integrator: Integrator,
     /// Vertices lit and continued: see `path`'s module doc.
     pub max_depth: u32,
+    /// Transmission bounces allowed besides `max_depth` (see `path`'s module doc).
+    pub max_transmission_depth: u32,
     /// Light or BSDF sampling or both.
     pub light_strategy: LightStrategy,
     /// Russian roulette on.

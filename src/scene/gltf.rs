@@ -32,6 +32,9 @@
 //!   [`crate::scene::tangents`]); KHR_texture_transform on every texture (with its texCoord
 //!   override). A primitive
 //!   without a material gets glTF's default (white, metallic 1, roughness 1, single-sided).
+//!   KHR_materials_pbrSpecularGlossiness is converted to that model (`specular_glossiness`);
+//!   KHR_materials_variants' mappings replace a primitive's material for the variant
+//!   [`SceneSelection::variant`] names (`variants`).
 //! - Textures: PNG, JPEG, (EXT_texture_webp) WebP and (KHR_texture_basisu, `basisu`) KTX2
 //!   with Basis Universal ETC1S or UASTC payloads, from files, data URIs or buffer views; a
 //!   texture with a KTX2 image and a fallback `source` reads the KTX2 when its header is
@@ -65,6 +68,7 @@ mod animation;
 mod basisu;
 mod draco;
 mod error;
+pub mod info;
 mod instancing;
 mod limits;
 mod material_layers;
@@ -84,8 +88,10 @@ mod quantization;
 mod sharing;
 mod skin;
 mod source;
+mod specular_glossiness;
 mod unsupported;
 mod validate;
+mod variants;
 mod webp;
 
 pub use error::{LoadError, one_line};
@@ -114,13 +120,17 @@ use std::path::Path;
 ///
 /// The default is what `load` does: the file's default scene (else scene 0) in its rest
 /// pose, animations not applied.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneSelection {
     /// The index of the scene to render (`--scene N`); `None`: the file's default scene.
     pub scene: Option<usize>,
     /// The time in seconds at which every animation is sampled (`--time SECONDS`); `None`:
     /// the rest pose (the file's node transforms and default morph weights).
     pub time: Option<f32>,
+    /// The KHR_materials_variants variant whose materials to render (`--variant NAME`);
+    /// `None`: every primitive's default material. A name the file lacks is
+    /// [`LoadError::UnknownVariant`], which lists the file's variants.
+    pub variant: Option<String>,
 }
 
 /// A loaded scene and the warnings the loader gave (skipped primitives, ignored extensions).
@@ -251,6 +261,7 @@ fn load_bytes(
     let mut geometry = limits::GeometryBudget::new(origin.options);
     let source = source::parse(bytes, origin, &mut geometry, &mut warnings)?;
     let document = &source.document;
+    let variant = variants::select(document, selection.variant.as_deref(), origin)?;
     let materials::Materials {
         mut materials,
         textures,
@@ -358,7 +369,8 @@ fn load_bytes(
             };
             for (instance, local) in copies.iter().enumerate() {
                 for primitive in mesh.primitives() {
-                    let material = match primitive.material().index() {
+                    let mapped = variants::material(&primitive, mesh.index(), variant, origin)?;
+                    let material = match mapped.or(primitive.material().index()) {
                         Some(index) => index,
                         None => {
                             uses_default = true;

@@ -182,6 +182,11 @@ pub struct Material {
     pub specular: f32,
     /// KHR_materials_specular `specularColorFactor` (white without it): tints f0.
     pub specular_color: Vec3,
+    /// KHR_materials_pbrSpecularGlossiness `specularGlossinessTexture` (RGB: specular colour,
+    /// sRGB in the file and linear here; A: glossiness, linear). At a hit its RGB multiplies
+    /// `specular_color` and the roughness is `1 − (1 − roughness) · A` (the material's
+    /// `roughness` is `1 − glossinessFactor`). `None` for metallic-roughness materials.
+    pub specular_glossiness_texture: Option<TextureRef>,
     /// KHR_materials_clearcoat, if the material has it.
     pub clearcoat: Option<layers::Clearcoat>,
     /// KHR_materials_sheen, if the material has it.
@@ -235,6 +240,7 @@ impl Default for Material {
             ior: 1.5,
             specular: 1.0,
             specular_color: Vec3::ONE,
+            specular_glossiness_texture: None,
             alpha: AlphaMode::Opaque,
             unlit: false,
             normal_texture: None,

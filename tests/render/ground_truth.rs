@@ -175,6 +175,7 @@ impl Render {
             selection: SceneSelection {
                 scene: None,
                 time: self.time,
+                variant: None,
             },
             backend: self.backend,
             camera: self.camera.clone(),
@@ -437,6 +438,7 @@ fn skinned_and_morphing_models_flow_consistently() {
         let selection = SceneSelection {
             scene: None,
             time: Some(t),
+            variant: None,
         };
         let first = glint::scene::gltf::load_with(&khronos(model), &selection).unwrap();
         render.camera = CameraChoice::Given(glint::scene::defaults::default_camera(&first));

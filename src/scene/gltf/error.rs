@@ -68,6 +68,16 @@ pub enum LoadError {
         /// What is wrong and how to fix it.
         problem: String,
     },
+    /// `--variant NAME` names no KHR_materials_variants variant of the file.
+    #[error("{}: no material variant \"{name}\" ({available})", path.display())]
+    UnknownVariant {
+        /// The scene file.
+        path: PathBuf,
+        /// The name asked for.
+        name: String,
+        /// `its variants are "a", "b"`, or that it has none.
+        available: String,
+    },
     /// The file requires extensions glint cannot honour (all of them named at once).
     #[error(
         "{}: the file requires {extension}, which glint does not support \
@@ -141,6 +151,7 @@ impl LoadError {
             | LoadError::MissingFile { path, .. }
             | LoadError::Data { path, .. }
             | LoadError::UnsupportedExtension { path, .. }
+            | LoadError::UnknownVariant { path, .. }
             | LoadError::Primitive { path, .. }
             | LoadError::Node { path, .. }
             | LoadError::Texture { path, .. }

@@ -124,6 +124,10 @@ pub fn load(
             MAX_EMISSION,
             "emissiveStrength",
         );
+        // KHR_materials_pbrSpecularGlossiness, when present, replaces the core workflow.
+        let spec_gloss = material
+            .pbr_specular_glossiness()
+            .map(|sg| super::specular_glossiness::read(&sg, &label, origin, &mut clamped));
         let surface = super::alpha::read(&material, &label, origin, &mut clamped);
         let layers = super::material_layers::read(
             &material,
@@ -133,21 +137,49 @@ pub fn load(
             &mut request,
             document.textures().len(),
         );
+        let (base_color, base_texture, metallic, roughness, mr_texture) = match &spec_gloss {
+            Some(sg) => (sg.base_color, sg.diffuse_texture, 0.0, sg.roughness, None),
+            None => (
+                base_color,
+                pbr.base_color_texture().map(Into::into),
+                metallic,
+                roughness,
+                pbr.metallic_roughness_texture().map(Into::into),
+            ),
+        };
+        let (ior, specular, specular_color) = match &spec_gloss {
+            Some(sg) => (super::specular_glossiness::IOR, 1.0, sg.specular_color),
+            None => (
+                material.ior().filter(|i| i.is_finite()).unwrap_or(1.5),
+                material
+                    .specular()
+                    .map_or(1.0, |s| s.specular_factor())
+                    .clamp(0.0, 1.0),
+                material
+                    .specular()
+                    .map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
+                    .max(Vec3::ZERO),
+            ),
+        };
         materials.push(Material {
             name: material
                 .name()
                 .map_or_else(|| label.clone(), str::to_string),
             base_color,
             base_color_texture: request(
-                pbr.base_color_texture().map(Into::into),
+                base_texture,
                 ColorSpace::Srgb,
-                "base colour",
+                if spec_gloss.is_some() {
+                    "diffuse"
+                } else {
+                    "base colour"
+                },
                 &label,
             ),
             metallic,
             roughness,
             metallic_roughness_texture: request(
-                pbr.metallic_roughness_texture().map(Into::into),
+                mr_texture,
                 ColorSpace::Linear,
                 "metallic-roughness",
                 &label,
@@ -161,15 +193,17 @@ pub fn load(
             ),
             double_sided: material.double_sided(),
             procedural: super::procedural::from_extras(material.extras(), &label, origin)?,
-            ior: material.ior().filter(|i| i.is_finite()).unwrap_or(1.5),
-            specular: material
-                .specular()
-                .map_or(1.0, |s| s.specular_factor())
-                .clamp(0.0, 1.0),
-            specular_color: material
-                .specular()
-                .map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
-                .max(Vec3::ZERO),
+            ior,
+            specular,
+            specular_color,
+            // RGB is a colour (sRGB in the file), A the linear glossiness: read as the base
+            // colour texture is.
+            specular_glossiness_texture: request(
+                spec_gloss.and_then(|sg| sg.specular_glossiness_texture),
+                ColorSpace::Srgb,
+                "specular-glossiness",
+                &label,
+            ),
             alpha: surface.alpha,
             unlit: surface.unlit,
             normal_texture: normal_texture::read(

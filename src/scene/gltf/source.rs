@@ -14,12 +14,14 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_specular",
     "KHR_materials_unlit",
     "KHR_materials_clearcoat",
     "KHR_materials_sheen",
     "KHR_materials_transmission",
     "KHR_materials_volume",
+    "KHR_materials_variants",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     #[cfg(feature = "meshopt")]
@@ -135,6 +137,27 @@ pub fn parse(
     geometry: &mut super::limits::GeometryBudget,
     warnings: &mut Vec<String>,
 ) -> Result<Source, LoadError> {
+    parse_inner(bytes, origin, geometry, warnings, true)
+}
+
+/// Like [`parse`], without refusing the required extensions glint does not support (they are
+/// dropped, unread): for `glint info`, which lists them.
+pub fn parse_for_inspection(
+    bytes: &[u8],
+    origin: Origin<'_>,
+    geometry: &mut super::limits::GeometryBudget,
+    warnings: &mut Vec<String>,
+) -> Result<Source, LoadError> {
+    parse_inner(bytes, origin, geometry, warnings, false)
+}
+
+fn parse_inner(
+    bytes: &[u8],
+    origin: Origin<'_>,
+    geometry: &mut super::limits::GeometryBudget,
+    warnings: &mut Vec<String>,
+    refuse_unsupported: bool,
+) -> Result<Source, LoadError> {
     if bytes.is_empty() {
         return Err(origin.syntax("the file is empty (re-export or re-download it)"));
     }
@@ -150,7 +173,9 @@ pub fn parse(
             other => origin.syntax(other.to_string()),
         })?;
     let mut root = document.into_json();
-    check_extensions(&root, origin, warnings)?;
+    if refuse_unsupported {
+        check_extensions(&root, origin, warnings)?;
+    }
     super::validate::check_unwrapped_members(&root, origin)?;
     super::validate::drop_unusable_channels(&mut root, origin, warnings);
     super::webp::use_webp_sources(&mut root);

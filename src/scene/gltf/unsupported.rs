@@ -12,9 +12,6 @@ fn advice(extension: &str) -> Option<&'static str> {
             "meshopt-compressed geometry: rebuild glint with its `meshopt` feature (on by default; it needs \
              a C++ compiler), or decompress with `gltfpack -i IN.glb -o OUT.glb` (no `-c`)"
         }
-        "KHR_materials_pbrSpecularGlossiness" => {
-            "the specular-glossiness workflow: convert it to metallic-roughness, e.g. `gltf-transform metalrough IN.glb OUT.glb`"
-        }
         _ => return None,
     })
 }
@@ -63,19 +60,11 @@ mod tests {
             files: crate::scene::gltf::source::Files::None,
             options: &options,
         };
-        let message = error(
-            &[
-                "EXT_meshopt_compression",
-                "KHR_materials_pbrSpecularGlossiness",
-                "EXT_foo",
-            ],
-            origin,
-        )
-        .to_string();
+        let message = error(&["EXT_meshopt_compression", "EXT_bar", "EXT_foo"], origin).to_string();
         assert!(!message.contains('\n'));
-        assert!(message.contains(
-            "requires extensions EXT_meshopt_compression, KHR_materials_pbrSpecularGlossiness and EXT_foo"
-        ));
+        assert!(
+            message.contains("requires extensions EXT_meshopt_compression, EXT_bar and EXT_foo")
+        );
         assert!(message.contains("gltfpack") && message.contains("without the others"));
         let single = error(&["EXT_foo"], origin).to_string();
         assert!(single.contains("requires extension EXT_foo,"));
