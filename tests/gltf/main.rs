@@ -8,3 +8,5 @@ mod assets_render;
 mod draco;
 mod gltf_coverage;
 mod gltf_load;
+mod material_variants;
+mod specular_glossiness;

@@ -7,10 +7,9 @@
 //! names, with a non-zero exit and no file; `glint info --json` lists the variants and sorts
 //! the extensions into read, ignored and refused.
 
-mod gltf_fixture;
 
 use glam::Vec3;
-use gltf_fixture::Fixture;
+use crate::support::Fixture;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
