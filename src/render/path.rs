@@ -264,6 +264,9 @@ fn escaped(
         && ctx.transport.light_strategy == LightStrategy::Mis;
     let (le, env_pdf) = if weighs {
         env.radiance_and_pdf_with(dir, ctx.lights.env_sampling())
+    } else if primary {
+        // Camera rays that miss: the polynomial mapping (within 10⁻³ texel; no density).
+        (env.radiance_fast(dir), 0.0)
     } else {
         (env.radiance(dir), 0.0)
     };

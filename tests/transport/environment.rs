@@ -641,3 +641,145 @@ fn supersampling_lowers_the_light_sample_variance_on_small_lamps() {
         assert!(v4 < v2, "{side}: 4×4 cells {v4} vs 2×2 {v2}");
     }
 }
+
+/// Unit directions of the pixel centres of a `w × h` pinhole frame looking along `forward`
+/// (vertical field of view `fov_deg`), row by row.
+fn frame_directions(w: usize, h: usize, forward: Vec3, fov_deg: f32) -> Vec<Vec3> {
+    let f = forward.normalize();
+    let helper = if f.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
+    let right = f.cross(helper).normalize();
+    let up = right.cross(f);
+    let tan = (fov_deg.to_radians() * 0.5).tan();
+    let aspect = w as f32 / h as f32;
+    let mut dirs = Vec::with_capacity(w * h);
+    for j in 0..h {
+        for i in 0..w {
+            let sx = (2.0 * (i as f32 + 0.5) / w as f32 - 1.0) * tan * aspect;
+            let sy = (1.0 - 2.0 * (j as f32 + 0.5) / h as f32) * tan;
+            dirs.push((f + right * sx + up * sy).normalize());
+        }
+    }
+    dirs
+}
+
+/// Unit directions of a `w × h` panoramic frame covering the whole sphere, its pixel centres
+/// offset from the map's texel centres.
+fn panorama_directions(w: usize, h: usize) -> Vec<Vec3> {
+    let mut dirs = Vec::with_capacity(w * h);
+    for j in 0..h {
+        for i in 0..w {
+            let theta = PI * (j as f32 + 0.37) / h as f32;
+            let phi = TAU * ((i as f32 + 0.61) / w as f32 - 0.5);
+            dirs.push(direction(theta, phi));
+        }
+    }
+    dirs
+}
+
+/// Largest per-channel difference between horizontally or vertically adjacent texels of the
+/// 4 × 4 texels around the bilinear patch that holds `uv` (u wrapping, v clamped): a bound on
+/// how fast the bilinear lookup changes there, per texel of movement along either axis.
+fn local_slope(image: &EnvImage, uv: Vec2) -> f32 {
+    let (w, h) = (image.width as i64, image.height as i64);
+    let x0 = (uv.x * w as f32 - 0.5).floor() as i64;
+    let y0 = (uv.y * h as f32 - 0.5).floor() as i64;
+    let at = |i: i64, j: i64| image.texels[(j.clamp(0, h - 1) * w + i.rem_euclid(w)) as usize];
+    let mut slope = 0.0f32;
+    for j in y0 - 1..=y0 + 2 {
+        for i in x0 - 1..=x0 + 2 {
+            slope = slope.max((at(i + 1, j) - at(i, j)).abs().max_element());
+            slope = slope.max((at(i, j + 1) - at(i, j)).abs().max_element());
+        }
+    }
+    slope
+}
+
+/// The camera-miss mapping (polynomial atan2) against the exact one, on every pixel of
+/// 1280 × 720 frames: u within `MAX_ERROR/2π` plus rounding (modulo 1), v within `MAX_ERROR/π`
+/// plus rounding, and the radiance within that movement times the lookup's local slope (plus
+/// f32 rounding of the blend). Frames: the whole sphere, the horizon across the seam (−X),
+/// straight up at the pole, and straight down at the other.
+fn assert_fast_miss_path_within_bound(name: &str, image: EnvImage, rotation_deg: f32) {
+    use glint::light::environment::FAST_ANGLE_MAX_ERROR;
+    // The exact mapping's own rounding (libm's atan2f to an ulp, and the scalings) on top of
+    // the polynomial's bound.
+    let du_bound = FAST_ANGLE_MAX_ERROR / TAU + 2.0e-7;
+    let dv_bound = FAST_ANGLE_MAX_ERROR / PI + 2.0e-7;
+    let env = EnvironmentLight::from_image(
+        image.clone(),
+        &EnvOptions {
+            rotation_deg,
+            ..EnvOptions::default()
+        },
+    )
+    .unwrap();
+    let (w, h) = (image.width as f32, image.height as f32);
+    let frames = [
+        ("panorama", panorama_directions(1280, 720)),
+        ("seam", frame_directions(1280, 720, -Vec3::X, 60.0)),
+        ("north pole", frame_directions(1280, 720, Vec3::Y, 60.0)),
+        ("south pole", frame_directions(1280, 720, -Vec3::Y, 60.0)),
+    ];
+    let (mut worst_du, mut worst_dv, mut worst_ratio) = (0.0f32, 0.0f32, 0.0f32);
+    for (frame, dirs) in &frames {
+        for (k, &d) in dirs.iter().enumerate() {
+            let (exact, fast) = (env.direction_to_uv(d), env.direction_to_uv_fast(d));
+            let du = (fast.x - exact.x).abs();
+            let du = du.min(1.0 - du);
+            let dv = (fast.y - exact.y).abs();
+            assert!(
+                du <= du_bound && dv <= dv_bound,
+                "{name}, {frame} pixel {k}: uv {fast} vs {exact}"
+            );
+            worst_du = worst_du.max(du);
+            worst_dv = worst_dv.max(dv);
+            let (l_exact, l_fast) = (env.radiance(d), env.radiance_fast(d));
+            let moved = du_bound * w + dv_bound * h;
+            let bound = moved * local_slope(&image, exact) + 1e-6 * l_exact.max_element();
+            let diff = (l_fast - l_exact).abs().max_element();
+            assert!(
+                diff <= bound,
+                "{name}, {frame} pixel {k} ({d}): {l_fast} vs {l_exact}, bound {bound}"
+            );
+            if bound > 0.0 {
+                worst_ratio = worst_ratio.max(diff / bound);
+            }
+        }
+    }
+    eprintln!(
+        "{name}: worst |Δu| {worst_du:e}, |Δv| {worst_dv:e}, radiance at {:.3} of its bound",
+        worst_ratio
+    );
+}
+
+#[test]
+fn fast_miss_path_is_within_its_bound_under_studio() {
+    let image = read_env_image(&shared("studio.exr"), u64::MAX).unwrap();
+    assert_fast_miss_path_within_bound("studio.exr", image.clone(), 0.0);
+    assert_fast_miss_path_within_bound("studio.exr rotated 250°", image, 250.0);
+}
+
+/// A dim map with a one-texel-wide bright column on each side of the seam's wrap (the last
+/// column) and a bright top row (the pole): where a small error in u or v moves the lookup
+/// the most.
+#[test]
+fn fast_miss_path_is_within_its_bound_on_bright_lines_at_the_seam_and_pole() {
+    for (w, h) in [(64, 32), (4096, 2048)] {
+        let texels = (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                if i == w - 1 || j == 0 {
+                    Vec3::new(1000.0, 800.0, 600.0)
+                } else {
+                    Vec3::splat(0.01)
+                }
+            })
+            .collect();
+        let image = EnvImage {
+            width: w,
+            height: h,
+            texels,
+        };
+        assert_fast_miss_path_within_bound(&format!("lines {w}×{h}"), image, 0.0);
+    }
+}

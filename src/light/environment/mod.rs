@@ -61,7 +61,10 @@
 //! aside). A constant environment is sampled uniformly over
 //! the sphere (`p = 1/4π`).
 
+mod fast_angle;
 mod load;
+
+pub use fast_angle::MAX_ERROR as FAST_ANGLE_MAX_ERROR;
 
 pub use load::{DEFAULT_PIXEL_BUDGET, EnvImage, read_env_image};
 
@@ -396,6 +399,30 @@ impl EnvironmentLight {
         Vec2::new(u.min(ONE_MINUS_EPSILON), v.min(ONE_MINUS_EPSILON))
     }
 
+    /// [`direction_to_uv`](Self::direction_to_uv) with both angles from the polynomial
+    /// `atan2` ([`FAST_ANGLE_MAX_ERROR`] radians at most), for camera rays that miss: `u` is
+    /// within `FAST_ANGLE_MAX_ERROR / 2π` (modulo 1) and `v` within `FAST_ANGLE_MAX_ERROR / π`
+    /// of the exact mapping's.
+    #[inline]
+    pub fn direction_to_uv_fast(&self, d: Vec3) -> Vec2 {
+        let phi = fast_angle::fast_atan2(d.z, d.x);
+        let u = 0.5 + (phi + self.rotation) / TAU;
+        // One turn up or down covers every rotation within ±π; `rem_euclid` (a library call)
+        // only for larger ones.
+        let u = if (0.0..1.0).contains(&u) {
+            u
+        } else if (-1.0..0.0).contains(&u) {
+            u + 1.0
+        } else if (1.0..2.0).contains(&u) {
+            u - 1.0
+        } else {
+            u.rem_euclid(1.0)
+        };
+        let v = fast_angle::fast_atan2((d.x * d.x + d.z * d.z).sqrt(), d.y) * FRAC_1_PI;
+        // `max` first: a NaN direction reads (·, 0) as the exact mapping does, not NaN.
+        Vec2::new(u.min(ONE_MINUS_EPSILON), v.max(0.0).min(ONE_MINUS_EPSILON))
+    }
+
     /// The unit world direction of image coordinates `(u, v)` (inverse of
     /// [`direction_to_uv`](Self::direction_to_uv)).
     #[inline]
@@ -413,6 +440,19 @@ impl EnvironmentLight {
         match &self.kind {
             Kind::Constant(c) => *c,
             Kind::Map(m) => m.lookup(self.direction_to_uv(d)),
+        }
+    }
+
+    /// [`radiance`](Self::radiance) through [`direction_to_uv_fast`](Self::direction_to_uv_fast):
+    /// for camera rays that miss (about 70 % of them on a product shot), where no density is
+    /// needed. It differs from the exact lookup by at most the lookup's change over the
+    /// mapping's error (under 10⁻³ texel on an 8192-wide map; tests/environment.rs checks
+    /// every pixel of a frame); nothing that is weighed against environment sampling uses it.
+    #[inline]
+    pub fn radiance_fast(&self, d: Vec3) -> Vec3 {
+        match &self.kind {
+            Kind::Constant(c) => *c,
+            Kind::Map(m) => m.lookup(self.direction_to_uv_fast(d)),
         }
     }
 
