@@ -163,7 +163,7 @@ impl Mesh {
             let (lo, hi) = match linear_bounds.iter().find(|(m, _)| *m == linear) {
                 Some((_, b)) => *b,
                 None => {
-                    let b = fold(&mut self.positions.iter().map(|p| Vec3::from(linear * *p)));
+                    let b = fold(&mut self.positions.iter().map(|p| linear * *p));
                     linear_bounds.push((linear, b));
                     b
                 }
