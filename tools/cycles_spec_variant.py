@@ -14,6 +14,13 @@ RULE is one of
                       of the UV-derived MikkTSpace frame Blender builds (same tangent, negated
                       bitangent), this is the frame the file gives (TwoSidedPlane). Blender's
                       importer ignores TANGENT.
+  tint-per-interface  the base colour of a fully transmitting Principled BSDF (Transmission
+                      Weight 1) is squared: Cycles tints a closed glass object by its base
+                      colour c once (measured: a c = (0.5, 0.7, 0.9) glass sphere in a white
+                      furnace is (0.52, 0.71, 0.90) at its centre), where KHR_materials_volume
+                      changes the light's colour "at the volume boundary", i.e. by c at each of
+                      the two crossings (c², glint); exact where the material's diffuse and
+                      metal parts are 0 (TransmissionRoughnessTest).
 The rest is `../shared/peers/cycles_render.py --materials native` unchanged (same options;
 pass the goldens' settings from ../shared/khronos/README.md). The rule is added to the
 importer's node trees after `native_materials` has run."""
@@ -75,7 +82,34 @@ def flip_normal_green(bpy, mat_info, warnings):
             warnings.append(f"variant: {mat.name}: normal texture green inverted")
 
 
-RULES = {"cull-single-sided": cull_single_sided, "flip-normal-green": flip_normal_green}
+def tint_per_interface(bpy, mat_info, warnings):
+    for mat in bpy.data.materials:
+        nt = mat.node_tree
+        if nt is None:
+            continue
+        for node in [n for n in nt.nodes if n.type == "BSDF_PRINCIPLED"]:
+            weight = node.inputs["Transmission Weight"]
+            if weight.is_linked or weight.default_value < 1.0:
+                continue
+            base = node.inputs["Base Color"]
+            square = nt.nodes.new("ShaderNodeVectorMath")
+            square.operation = "MULTIPLY"
+            if base.is_linked:
+                source = base.links[0].from_socket
+                nt.links.new(source, square.inputs[0])
+                nt.links.new(source, square.inputs[1])
+            else:
+                for k in (0, 1):
+                    square.inputs[k].default_value = base.default_value[:3]
+            nt.links.new(square.outputs[0], base)
+            warnings.append(f"variant: {mat.name}: transmission tint squared")
+
+
+RULES = {
+    "cull-single-sided": cull_single_sided,
+    "flip-normal-green": flip_normal_green,
+    "tint-per-interface": tint_per_interface,
+}
 
 
 def main():

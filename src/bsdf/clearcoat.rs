@@ -16,10 +16,15 @@
 //! holds: the coat takes `c Fc` of the light and the base gets the rest, so a base with
 //! `∫ f_base cos ≤ 1` stays ≤ 1 coated.
 //!
-//! The coat normal `n` is the shading normal, or the coat's own (`clearcoatNormalTexture`):
-//! then [`ClearcoatBsdf::with_normal`] gives it in the base's local frame, and every `n·`
-//! above, `D`, `G2` and the sampling are taken in a frame around it (the base layer keeps
-//! its own normal; the integrator's cosine stays the base frame's).
+//! The coat normal `n` is the coat's own (`clearcoatNormalTexture`), else the interpolated
+//! vertex normal: the extension says that without a texture of its own "no normal mapping is
+//! applied to the clear coat layer, even if normal mapping is applied to the base material".
+//! When it differs from the base's shading normal, [`ClearcoatBsdf::with_normal`] gives it in
+//! the base's local frame, and every `n·` above, `D`, `G2` and the sampling are taken in a
+//! frame around it (the base layer keeps its own normal). The integrator multiplies every
+//! lobe by the base frame's cosine `wi·z`; the coat's lobe is the coat's `f · (n·wi)`, so
+//! [`Bsdf::eval`] returns it times `(n·wi)/(wi·z)`: the coat's light then follows its own
+//! normal alone, and a normal-mapped base does not modulate a smooth coat's highlight.
 //!
 //! **Sampling.** A visible normal for `wo`, reflected (`pdf = Dv(wo, h)/(4|wo·h|)`); below
 //! [`SMOOTH_ALPHA`](super::microfacet::SMOOTH_ALPHA) a delta mirror of reflectance `c Fc(wo)`.
@@ -135,7 +140,14 @@ impl Bsdf for ClearcoatBsdf {
         if wi.z <= 0.0 {
             return Vec3::ZERO;
         }
-        self.eval_local(self.local(wo), self.local(wi))
+        match &self.frame {
+            None => self.eval_local(wo, wi),
+            Some(f) => {
+                // The coat's cosine, not the base frame's (module documentation).
+                let wi_coat = f.to_local(wi);
+                self.eval_local(f.to_local(wo), wi_coat) * (wi_coat.z.max(0.0) / wi.z)
+            }
+        }
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
@@ -152,10 +164,8 @@ impl Bsdf for ClearcoatBsdf {
             if s.wi.z <= 0.0 {
                 return None;
             }
-            if !s.delta {
-                // The weight's cosine is the BSDF frame's, not the coat's.
-                s.weight = self.eval(wo, s.wi) * (s.wi.z / s.pdf);
-            }
+            // The weight stays the coat frame's `f · (n·wi) / pdf`: `eval` times the base
+            // frame's cosine over the pdf is the same number.
         }
         Some(s)
     }
@@ -239,8 +249,9 @@ mod tests {
     use super::*;
 
     /// A coat with its own normal `n` is the untilted coat rotated onto `n`: for directions
-    /// `a`, `b` above both horizons, f_n(R a, R b) = f(a, b) and the same for the pdf, with R
-    /// the coat frame's rotation; and a sample's direction lies in the rotated lobe.
+    /// `a`, `b` above both horizons, f_n(R a, R b) · (R b)·z = f(a, b) · b·z (the coat's
+    /// cosine, whatever the base frame's) and p_n(R a, R b) = p(a, b), with R the coat frame's
+    /// rotation; and a sample's direction lies in the rotated lobe.
     #[test]
     fn a_tilted_coat_normal_rotates_the_lobe() {
         let plain = ClearcoatBsdf::new(0.8, 0.4);
@@ -257,7 +268,7 @@ mod tests {
             for b in dirs {
                 let (ra, rb) = (frame.to_world(a), frame.to_world(b));
                 assert!(ra.z > 0.0 && rb.z > 0.0);
-                let (f, f_n) = (plain.eval(a, b).x, tilted.eval(ra, rb).x);
+                let (f, f_n) = (plain.eval(a, b).x * b.z, tilted.eval(ra, rb).x * rb.z);
                 assert!((f - f_n).abs() <= 1e-4 * f.max(1e-3), "{f} vs {f_n}");
                 let (p, p_n) = (plain.pdf(a, b), tilted.pdf(ra, rb));
                 assert!((p - p_n).abs() <= 1e-4 * p.max(1e-3), "{p} vs {p_n}");

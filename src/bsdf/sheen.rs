@@ -7,16 +7,23 @@
 //!
 //! ```text
 //! D(h)        = (2 + 1/α) sin(θh)^(1/α) / (2π)                 (∫ D(h) cos θh dh = 1)
-//! V(wo, wi)   = 1 / (4 (cos θi + cos θo − cos θi cos θo))        (Ashikhmin & Premoze 2007)
+//! V(wo, wi)   = 1 / ((1 + Λ(cos θo) + Λ(cos θi)) · 4 cos θo cos θi)   (Estevez & Kulla)
 //! f_sheen     = C · D(h) · V(wo, wi)
 //! ```
+//!
+//! with the extension's fitted `Λ(μ) = exp(L(μ))` for `μ < ½`, `exp(2 L(½) − L(1 − μ))`
+//! above, `L(x) = a/(1 + b x^c) + d x + e`, whose five coefficients are interpolated in
+//! `(1 − α)²` between the extension's two sets ([`charlie_lambda`]).
 //!
 //! The extension layers it over the material with its albedo scaling,
 //! `f = f_sheen + f_base · min(1 − max(C) E(cos θo), 1 − max(C) E(cos θi))`, where `E(μ, r)`
 //! is the directional albedo of `D · V` for `C = 1`; [`sheen_albedo`] tabulates it once
-//! (32 × 32 in (μ, r), by quadrature) and interpolates bilinearly. The spec lets the
-//! visibility be Estevez & Kulla's fitted Λ or Ashikhmin's simpler term; glint takes
-//! Ashikhmin's, which is symmetric, so `f_sheen` is reciprocal.
+//! (32 × 32 in (μ, r), by quadrature) and interpolates bilinearly. The extension defines the
+//! visibility as this "Charlie" term and allows Ashikhmin & Premoze's cheaper
+//! `1 / (4 (cos θi + cos θo − cos θi cos θo))` as a substitute that "will make the BRDF not
+//! energy conserving when using the albedo-scaling technique"; glint takes the defined
+//! term (docs/bsdf.md compares the two). Both are symmetric in `wo`, `wi`, so `f_sheen` is
+//! reciprocal.
 //!
 //! **Sampling.** Cosine-weighted hemisphere, `pdf = cos θi / π` (the lobe is broad; the spec
 //! asks for nothing sharper).
@@ -52,11 +59,42 @@ pub fn charlie_d(alpha: f32, h: Vec3) -> f32 {
     (2.0 + inv) * sin2.powf(0.5 * inv) / (2.0 * PI)
 }
 
-/// Ashikhmin's visibility `1 / (4 (cos θi + cos θo − cos θi cos θo))`.
+/// The extension's fitted `L(x)` for roughness `α` (module documentation): its coefficients
+/// at `α = 0` and `α = 1`, interpolated in `(1 − α)²`.
 #[inline]
-fn visibility(co: f32, ci: f32) -> f32 {
-    let d = 4.0 * (ci + co - ci * co);
-    if d > 0.0 { 1.0 / d } else { 0.0 }
+fn charlie_l(x: f32, alpha: f32) -> f32 {
+    let t = (1.0 - alpha) * (1.0 - alpha);
+    let mix = |at_one: f32, at_zero: f32| at_one + (at_zero - at_one) * t;
+    let a = mix(21.5473, 25.3245);
+    let b = mix(3.82987, 3.32435);
+    let c = mix(0.19823, 0.16801);
+    let d = mix(-1.97760, -1.27393);
+    let e = mix(-4.32054, -4.85967);
+    a / (1.0 + b * x.powf(c)) + d * x + e
+}
+
+/// Estevez & Kulla's `Λ(μ)` for the Charlie distribution of roughness `α` (the extension's
+/// fit: `exp L(μ)` below `μ = ½`, mirrored about ½ above it so that it falls to 0 at the
+/// normal).
+#[inline]
+pub fn charlie_lambda(mu: f32, alpha: f32) -> f32 {
+    let mu = mu.abs().min(1.0);
+    if mu < 0.5 {
+        charlie_l(mu, alpha).exp()
+    } else {
+        (2.0 * charlie_l(0.5, alpha) - charlie_l(1.0 - mu, alpha)).exp()
+    }
+}
+
+/// The Charlie visibility `1 / ((1 + Λ(cos θo) + Λ(cos θi)) · 4 cos θo cos θi)`.
+#[inline]
+fn visibility(co: f32, ci: f32, alpha: f32) -> f32 {
+    let d = (1.0 + charlie_lambda(co, alpha) + charlie_lambda(ci, alpha)) * 4.0 * co * ci;
+    if d > 0.0 && d.is_finite() {
+        1.0 / d
+    } else {
+        0.0
+    }
 }
 
 impl SheenBsdf {
@@ -82,7 +120,8 @@ impl SheenBsdf {
         if h == Vec3::ZERO {
             return 0.0;
         }
-        charlie_d(self.roughness * self.roughness, h) * visibility(wo.z, wi.z)
+        let alpha = (self.roughness * self.roughness).max(MIN_ALPHA);
+        charlie_d(alpha, h) * visibility(wo.z, wi.z, alpha)
     }
 
     /// The spec's scaling of the layer below,

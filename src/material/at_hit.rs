@@ -89,7 +89,7 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
         .filter(|_| material.textured())
         .and_then(|rd| Footprint::at(mesh, &si, &rd));
     // The interpolated normal, before the base's normal map: a clear coat's normal map
-    // perturbs this one.
+    // perturbs this one, and a coat without one uses it as it is (KHR_materials_clearcoat).
     let vertex_ns = si.ns;
     let mapped_tangent = {
         let at = TexturePoint {
@@ -141,10 +141,12 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
     };
     let bsdf = (q.scatters && !material.unlit).then(|| {
         let (metallic_roughness, specular_tint) = metallic_roughness(textures, &at, material);
+        let base_mapped = mapped_tangent.is_some();
         let layers = match &material.layers {
-            Some(l) if l.has_textures() => {
+            Some(l) if l.has_textures() || (base_mapped && l.clearcoat.is_some()) => {
                 let mut l = layers::at_hit(textures, &at, l);
-                l.coat_normal = layers::coat_normal(textures, &at, vertex_ns, material, &frame);
+                l.coat_normal =
+                    layers::coat_normal(textures, &at, vertex_ns, base_mapped, material, &frame);
                 Some(l)
             }
             other => *other,

@@ -20,8 +20,9 @@ pub struct ShadingLayers {
     pub volume: bool,
     /// The volume's Beer-Lambert attenuation coefficient σ (zero: clear, or no volume).
     pub sigma: Vec3,
-    /// The clear coat's own normal at the hit, in the BSDF's local frame (set per hit from
-    /// `clearcoatNormalTexture` by `render::layer_textures`; `None`: the shading normal).
+    /// The clear coat's own normal at the hit, in the BSDF's local frame (set per hit by
+    /// [`coat_normal`]: `clearcoatNormalTexture`'s, or the unmapped vertex normal under a
+    /// normal-mapped base; `None`: the shading normal).
     pub coat_normal: Option<Vec3>,
 }
 
@@ -169,26 +170,38 @@ pub fn at_hit(
     out
 }
 
-/// The clear coat's normal-mapped shading normal (`clearcoatNormalTexture`) at `at`, in the
-/// local frame of `frame` (the BSDF's), or `None` when the coat has no normal map or the
-/// mesh no tangents (the coat then uses the shading normal). As for the base's normal map
-/// ([`super::normal_map::at_hit`]) the map perturbs the interpolated vertex normal
-/// `vertex_ns` (on the incoming side) and is bent to reflect `si.wo` above the surface.
+/// The clear coat's shading normal at `at`, in the local frame of `frame` (the BSDF's), or
+/// `None` when it is the BSDF's own normal. With a `clearcoatNormalTexture` it is that map's
+/// normal: as for the base's normal map ([`super::normal_map::at_hit`]) the map perturbs the
+/// interpolated vertex normal `vertex_ns` (on the incoming side) in the mesh's tangent frame.
+/// Without one it is `vertex_ns` itself when the base was normal-mapped (`base_mapped`): the
+/// extension applies no normal mapping to a coat without its own texture, "even if normal
+/// mapping is applied to the base material". Either is bent to reflect `si.wo` above the
+/// surface. A coat map on a mesh without tangents leaves the coat on `vertex_ns` as well.
 #[inline]
 pub fn coat_normal(
     textures: &crate::texture::TextureEvaluator<'_>,
     at: &crate::texture::TexturePoint<'_>,
     vertex_ns: Vec3,
+    base_mapped: bool,
     material: &super::ShadingMaterial,
     frame: &crate::bsdf::Frame,
 ) -> Option<Vec3> {
     use super::normal_map::{keep_reflection_above, perturbed_normal};
-    let normal = material.layers?.clearcoat?.normal_texture?;
+    let coat = material.layers?.clearcoat?;
     let si = at.si;
-    let tangent = si.tangent_to_world(si.interpolate(at.mesh.tangents.as_deref()?)?);
-    let side = if si.front_face { 1.0 } else { -1.0 };
-    let texel = textures.value(at, &normal.texture).truncate();
-    let (n, _) = perturbed_normal(texel, normal.scale, side * vertex_ns, tangent)?;
-    let n = keep_reflection_above(side * n, si.ng, si.wo);
-    Some(frame.to_local(n))
+    let mapped = coat.normal_texture.and_then(|normal| {
+        let tangent = si.tangent_to_world(si.interpolate(at.mesh.tangents.as_deref()?)?);
+        let side = if si.front_face { 1.0 } else { -1.0 };
+        let texel = textures.value(at, &normal.texture).truncate();
+        let (n, _) = perturbed_normal(texel, normal.scale, side * vertex_ns, tangent)?;
+        Some(side * n)
+    });
+    let n = match mapped {
+        Some(n) => n,
+        None if base_mapped => vertex_ns,
+        // The BSDF's normal is the (bent) vertex normal already.
+        None => return None,
+    };
+    Some(frame.to_local(keep_reflection_above(n, si.ng, si.wo)))
 }

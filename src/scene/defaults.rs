@@ -2,7 +2,10 @@
 //!
 //! # Default camera ([`default_camera`])
 //! Perspective, vertical field of view [`DEFAULT_YFOV_DEGREES`] = 40°, no fixed aspect ratio
-//! (the image's is used). It looks at the centre of the scene's axis-aligned bounding box
+//! (the image's is used). It looks at the centre of the axis-aligned bounding box of the
+//! scene's vertices as drawn ([`Scene::exact_bounds`]: every vertex through its node
+//! transforms, skin and morph weights, not the placed boxes of shared meshes, which grow
+//! under rotation)
 //! from the direction [`DEFAULT_VIEW_FROM`] = normalise(0.5, 0.4, 1.0) — in front (+Z),
 //! slightly above and to the right — with world +Y up, at the distance d = r / sin(yfov / 2)
 //! where the bounding sphere (radius r = half the box diagonal) exactly fills the vertical
@@ -41,7 +44,7 @@ const EMPTY_SCENE_HALF_SIZE: f32 = 0.5;
 
 /// A camera framing the scene's bounds (placement in the module documentation).
 pub fn default_camera(scene: &Scene) -> Camera {
-    let (lo, hi) = scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
+    let (lo, hi) = scene.exact_bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
     let centre = 0.5 * (lo + hi);
     let half_diagonal = 0.5 * (hi - lo).length();
     let radius = if half_diagonal > 0.0 && half_diagonal.is_finite() {

@@ -311,6 +311,59 @@ fn simple_morph_uses_the_mesh_default_weights() {
     assert!(bounds(&scene.meshes).1.distance(base_max) > 0.1);
 }
 
+/// glTF 3.7.2.2: "Attributes present in the base mesh primitive but not included in a given
+/// morph target MUST retain their original values for the morph target." A quad with NORMAL
+/// (+Z) and a POSITION-only target that tilts it (weight 0.5) keeps the file's normals while
+/// its triangles tilt by 26.6°. (Blender's importer turns the normals with the geometry,
+/// which Cycles' goldens show; three.js keeps them, as here. See docs/materials.md.)
+#[test]
+fn a_morph_without_normal_targets_keeps_the_files_normals() {
+    let mut f = Fixture::new();
+    let position = f.positions(&[
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ]);
+    let normal = f.floats(&[0.0, 0.0, 1.0].repeat(4), "VEC3", 3);
+    let lift = f.positions(&[
+        [0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
+    ]);
+    let index = f.indices_u16(&[0, 1, 2, 0, 2, 3]);
+    let scene = f
+        .load(json!({
+            "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{
+                "primitives": [{
+                    "attributes": {"POSITION": position, "NORMAL": normal},
+                    "targets": [{"POSITION": lift}],
+                    "indices": index,
+                }],
+                "weights": [0.5],
+            }],
+        }))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .scene;
+    let mesh = &scene.meshes[0];
+    // The geometry is morphed: the far edge is lifted by half the delta.
+    assert!((mesh.positions[2] - Vec3::new(1.0, 1.0, 0.5)).length() < 1e-6);
+    let tilted = gltf_fixture::triangle_normal(mesh, 0).normalize();
+    assert!(
+        tilted.dot(Vec3::Z) < 0.95,
+        "the triangles must tilt ({tilted})"
+    );
+    for n in mesh.normals.as_ref().expect("NORMAL") {
+        assert!(
+            (*n - Vec3::Z).length() < 1e-6,
+            "normal {n} must stay the file's +Z"
+        );
+    }
+}
+
 #[test]
 fn multiple_scenes_scene_one_differs_from_scene_zero() {
     let pick = |scene| {
@@ -880,5 +933,92 @@ fn without_the_meshopt_feature_meshopt_files_are_refused_with_advice() {
     assert!(
         message.contains("EXT_meshopt_compression") && message.contains("`meshopt` feature"),
         "{message}"
+    );
+}
+
+/// The default camera frames the vertices as drawn, not the boxes of shared meshes carried
+/// through their nodes: a mesh two nodes rotate by 45° (so glint stores it once, placed
+/// twice) gives the same eye, within 1e-5 of the scene's size, as the same triangles baked
+/// into world space; and the eye is not the one the placed boxes would give (which grow
+/// under rotation, as on a truck's wheels).
+#[test]
+fn the_default_camera_frames_rotated_nodes_like_the_same_geometry_baked() {
+    // An octahedron: its box's corners lie far outside it, so placed boxes inflate.
+    let corners: Vec<[f32; 3]> = vec![
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let indices: Vec<u16> = vec![
+        0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5,
+    ];
+    let turn = |axis: Vec3| Quat::from_axis_angle(axis.normalize(), 45f32.to_radians());
+    let nodes = [
+        (turn(Vec3::Y), Vec3::new(2.0, 0.0, 0.0)),
+        (turn(Vec3::new(1.0, 0.0, 1.0)), Vec3::new(-1.0, 1.5, 0.5)),
+    ];
+    // Rotated nodes over one shared mesh.
+    let mut shared = Fixture::new();
+    let position = shared.positions(&corners);
+    let index = shared.indices_u16(&indices);
+    let rotated = shared
+        .load(json!({
+            "scenes": [{"nodes": [0, 1]}],
+            "nodes": nodes.iter().map(|(q, t)| json!({
+                "mesh": 0,
+                "rotation": [q.x, q.y, q.z, q.w],
+                "translation": [t.x, t.y, t.z],
+            })).collect::<Vec<_>>(),
+            "meshes": [{"primitives": [{"attributes": {"POSITION": position}, "indices": index}]}],
+        }))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .scene;
+    assert!(
+        rotated.meshes.iter().any(|m| m.instances.len() == 2),
+        "the shared mesh must be stored once and placed twice"
+    );
+    // The same triangles with the node transforms baked into the vertices.
+    let mut baked = Fixture::new();
+    let mut meshes = Vec::new();
+    for (q, t) in &nodes {
+        let world: Vec<[f32; 3]> = corners
+            .iter()
+            .map(|p| (*q * Vec3::from(*p) + *t).to_array())
+            .collect();
+        let position = baked.positions(&world);
+        let index = baked.indices_u16(&indices);
+        meshes.push(
+            json!({"primitives": [{"attributes": {"POSITION": position}, "indices": index}]}),
+        );
+    }
+    let baked = baked
+        .load(json!({
+            "scenes": [{"nodes": [0, 1]}],
+            "nodes": [{"mesh": 0}, {"mesh": 1}],
+            "meshes": meshes,
+        }))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .scene;
+    let eye = |scene: &Scene| {
+        glint::scene::defaults::default_camera(scene)
+            .world_from_camera
+            .w_axis
+            .truncate()
+    };
+    let (lo, hi) = baked.exact_bounds().expect("vertices");
+    let size = (hi - lo).length();
+    let (a, b) = (eye(&rotated), eye(&baked));
+    assert!(
+        (a - b).length() <= 1e-5 * size,
+        "rotated nodes: eye {a}, baked: eye {b} (scene size {size})"
+    );
+    // The placed boxes frame differently: the test would see a box-based camera.
+    let (box_lo, box_hi) = rotated.bounds().expect("vertices");
+    assert!(
+        ((box_hi - box_lo) - (hi - lo)).length() > 0.05 * size,
+        "the test needs rotations that inflate the placed boxes"
     );
 }
