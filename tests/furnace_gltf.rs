@@ -288,6 +288,28 @@ fn rough_glass_spheres_reflect_and_transmit_the_furnace_exactly() {
 /// compensated base (metal and dielectric, roughness 0.5): the coat takes `Fc(n·wo)` and
 /// reflects it (its lobe compensated by `1/E0`), the base reflects the rest, so the sphere is
 /// 1 within the statistics (1 % mean, 2 % rings, as the bare spheres).
+/// Rough glass of `ior` exactly 1 (issue 35): every microfacet passes light straight on, so
+/// the sphere is invisible in the furnace and reads 1 on both models. Before, the half vector
+/// of `wi = −wo` was zero, every rough draw was rejected and the sphere read 0.
+#[test]
+fn rough_glass_of_ior_one_passes_the_furnace_straight_through() {
+    let mut failures = Vec::new();
+    for &backend in BackendKind::available() {
+        for brdf in [BrdfModel::Compensated, BrdfModel::Spec] {
+            for roughness in [0.5, 1.0] {
+                let (mean, rings, se) =
+                    furnace_with_noise(glass(1.0, roughness), brdf, backend, 16, 32);
+                let what = format!("{backend}, {brdf}, glass ior 1, roughness {roughness}");
+                eprintln!("{what}: mean {mean:.4}, rings {rings:.4?} ± {se:.4?}");
+                if (mean - 1.0).abs() > 0.01 || rings.iter().any(|r| (r - 1.0).abs() > 0.02) {
+                    failures.push(what);
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "not 1 within 1 % (mean) and 2 % (rings): {failures:?}");
+}
+
 #[test]
 fn a_clear_coat_over_a_white_base_reflects_the_furnace_exactly() {
     for &backend in BackendKind::available() {
