@@ -461,13 +461,21 @@ mod tests {
     /// with the tint (it rejected every draw before, the half vector `wo + wi` being zero).
     #[test]
     fn rough_interface_of_matched_indices_passes_light_straight_through() {
-        for eta in [1.0, 1.0 + 0.5 * MATCHED_INDEX, 1.0 / (1.0 + 0.5 * MATCHED_INDEX)] {
+        for eta in [
+            1.0,
+            1.0 + 0.5 * MATCHED_INDEX,
+            1.0 / (1.0 + 0.5 * MATCHED_INDEX),
+        ] {
             for roughness in [0.3, 1.0] {
                 let tint = Vec3::new(1.0, 0.8, 0.5);
                 let b = DielectricBsdf::new(eta, roughness, tint, false)
                     .with_model(BrdfModel::Compensated);
                 assert!(b.is_delta() && b.flags().transmits());
-                for wo in [Vec3::Z, Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, -0.6, -0.8)] {
+                for wo in [
+                    Vec3::Z,
+                    Vec3::new(0.6, 0.0, 0.8),
+                    Vec3::new(0.0, -0.6, -0.8),
+                ] {
                     for u_lobe in [0.001, 0.5, 0.999] {
                         let s = b.sample(wo, u_lobe, Vec2::new(0.3, 0.7)).expect("a draw");
                         assert!(s.delta && s.transmission, "{eta} {wo} {u_lobe}: {s:?}");
