@@ -29,6 +29,11 @@
 //! mirror direction with reflectance `F(n·wo)` and the refracted direction (thin: `−wo`) with
 //! transmittance `T_c (1 − F)`, scaled by `(η_o/η_i)²` when the ray bends.
 //!
+//! **Index-matched** (volumetric, `|η − 1| <` [`MATCHED_INDEX`]): whatever the roughness, every
+//! microfacet passes `wo` straight on to `−wo` and reflects nothing, so the interface is the
+//! smooth one (delta lobes; `F = 0` makes it a pure pass-through of transmittance `T_c`). The
+//! rough formulas cannot express it: `η_o wo + η_i wi` vanishes.
+//!
 //! **Sampling.** A visible normal `m` is drawn for `wo` (turned to +Z); reflection is chosen
 //! with probability `P_r = F / (F + (1 − F) t̄)`, `t̄ = mean(T_c)`, transmission otherwise.
 //! Reflection: `pdf = P_r Dv(wo, m) / (4 |wo·m|)`; transmission: `pdf = (1 − P_r) Dv(wo, m)
@@ -60,6 +65,10 @@ use super::energy::{ggx_albedo, white_lobe_scale};
 use super::microfacet::{TrowbridgeReitz, reflect};
 use super::{BrdfModel, Bsdf, BsdfFlags, BsdfSample};
 use glam::{Vec2, Vec3};
+
+/// Largest `|η − 1|` at which a volumetric interface is treated as index-matched, a straight
+/// pass-through (see [`DielectricBsdf::index_matched`]).
+pub const MATCHED_INDEX: f32 = 1e-3;
 
 /// The dielectric interface (see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,6 +172,26 @@ impl DielectricBsdf {
         }
     }
 
+    /// Whether the interface scatters only into delta directions: a smooth surface, or a
+    /// volumetric interface between matched indices ([`index_matched`](Self::index_matched)),
+    /// whatever its roughness.
+    #[inline]
+    pub fn is_delta_interface(&self) -> bool {
+        self.distribution.is_smooth() || self.index_matched()
+    }
+
+    /// Whether the two sides of a volumetric (not thin) interface have the same index within
+    /// [`MATCHED_INDEX`]. Every microfacet then refracts `wo` into `−wo` and reflects nothing
+    /// (the Fresnel reflectance is `((η − 1)/(η + 1))² ≤ 2.5·10⁻⁷`), so rough or not the
+    /// interface is a straight pass-through: a delta lobe. The microfacet half vector
+    /// `wo + η wi` of that pair is zero at η = 1 (every rough draw was rejected and the light
+    /// lost) and ill-conditioned in single precision just beside it, while the true lobe is
+    /// at most `|η − 1|` radians wide per radian of microfacet tilt: narrower than any pixel.
+    #[inline]
+    pub fn index_matched(&self) -> bool {
+        !self.thin && (self.eta - 1.0).abs() < MATCHED_INDEX
+    }
+
     /// The isotropic α the energy tables are read at.
     #[inline]
     fn alpha(&self) -> f32 {
@@ -232,7 +261,7 @@ impl DielectricBsdf {
 
 impl Bsdf for DielectricBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        if self.distribution.is_smooth() {
+        if self.is_delta_interface() {
             return Vec3::ZERO;
         }
         let Some(m) = self.half_vector(wo, wi) else {
@@ -242,7 +271,7 @@ impl Bsdf for DielectricBsdf {
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if self.distribution.is_smooth() {
+        if self.is_delta_interface() {
             return 0.0;
         }
         let Some(m) = self.half_vector(wo, wi) else {
@@ -269,7 +298,7 @@ impl Bsdf for DielectricBsdf {
             return None;
         }
         let up = wo.z > 0.0;
-        if self.distribution.is_smooth() {
+        if self.is_delta_interface() {
             let f = fresnel_dielectric(wo.z.abs(), self.eta_side_up(up));
             let pr = self.reflect_probability(f);
             if u_lobe < pr {
@@ -331,7 +360,7 @@ impl Bsdf for DielectricBsdf {
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::REFLECTION
             | BsdfFlags::TRANSMISSION
-            | BsdfFlags::microfacet(self.distribution.is_smooth())
+            | BsdfFlags::microfacet(self.is_delta_interface())
     }
 }
 
@@ -426,5 +455,41 @@ mod tests {
         assert!((t.weight * t.pdf - Vec3::new(1.0, 0.5, 0.0) * (1.0 - f)).length() < 1e-6);
         assert_eq!(b.eval(wo, t.wi), Vec3::ZERO);
         assert_eq!(b.pdf(wo, t.wi), 0.0);
+    }
+
+    /// A rough volumetric interface between equal indices passes every ray straight through
+    /// with the tint (it rejected every draw before, the half vector `wo + wi` being zero).
+    #[test]
+    fn rough_interface_of_matched_indices_passes_light_straight_through() {
+        for eta in [
+            1.0,
+            1.0 + 0.5 * MATCHED_INDEX,
+            1.0 / (1.0 + 0.5 * MATCHED_INDEX),
+        ] {
+            for roughness in [0.3, 1.0] {
+                let tint = Vec3::new(1.0, 0.8, 0.5);
+                let b = DielectricBsdf::new(eta, roughness, tint, false)
+                    .with_model(BrdfModel::Compensated);
+                assert!(b.is_delta() && b.flags().transmits());
+                for wo in [
+                    Vec3::Z,
+                    Vec3::new(0.6, 0.0, 0.8),
+                    Vec3::new(0.0, -0.6, -0.8),
+                ] {
+                    for u_lobe in [0.001, 0.5, 0.999] {
+                        let s = b.sample(wo, u_lobe, Vec2::new(0.3, 0.7)).expect("a draw");
+                        assert!(s.delta && s.transmission, "{eta} {wo} {u_lobe}: {s:?}");
+                        assert!((s.wi + wo).length() < 1e-3, "straight on: {s:?}");
+                        // The tint, with the radiance scaling (η_o/η_i)² within 2·|η − 1|.
+                        assert!((s.weight * s.pdf - tint).abs().max_element() < 2.5e-3);
+                    }
+                }
+            }
+        }
+        // Thin walls are not index-matched: their rough lobe spreads light at any η.
+        let thin = DielectricBsdf::new(1.0, 0.5, Vec3::ONE, true);
+        assert!(!thin.is_delta());
+        // Just outside the tolerance the rough lobe is kept.
+        assert!(!DielectricBsdf::new(1.0 + 2.0 * MATCHED_INDEX, 0.5, Vec3::ONE, false).is_delta());
     }
 }

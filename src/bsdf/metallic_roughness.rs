@@ -82,10 +82,11 @@
 //! Reflection only: `wo` below the surface (`wo.z ≤ 0`) reflects nothing; the caller orients
 //! the shading frame toward `wo` for two-sided surfaces.
 
+use super::anisotropic_albedo;
 use super::compensated_sampling;
 use super::energy::{
-    ggx_albedo, ggx_albedo_average, multiple_scattering_factor, multiple_scattering_fresnel,
-    schlick_albedo, schlick_fresnel_average,
+    GgxAlbedo, ggx_albedo, ggx_albedo_average, multiple_scattering_factor,
+    multiple_scattering_fresnel, schlick_albedo, schlick_fresnel_average,
 };
 use super::microfacet::{TrowbridgeReitz, reflect, schlick};
 use super::{Bsdf, BsdfFlags, BsdfSample};
@@ -197,6 +198,17 @@ impl MetallicRoughnessBsdf {
         self
     }
 
+    /// The same BRDF with KHR_materials_anisotropy's `strength` (see
+    /// [`TrowbridgeReitz::from_roughness_anisotropy`]) for perceptual `roughness`: the
+    /// specular lobes (metal and dielectric) stretch along the local X axis. Strength 0
+    /// changes nothing.
+    pub fn with_anisotropy(mut self, roughness: f32, strength: f32) -> Self {
+        if strength > 0.0 {
+            self.distribution = TrowbridgeReitz::from_roughness_anisotropy(roughness, strength);
+        }
+        self
+    }
+
     /// The dielectric Fresnel of KHR_materials_ior (`ior`, 1.5 by default; 0 means f0 = 1) and
     /// KHR_materials_specular (`specular` scales f0 and f90, `specular_color` tints f0):
     /// `f0 = min(f0(ior) · specular_color, 1) · specular`, `f90 = specular`.
@@ -247,7 +259,7 @@ impl MetallicRoughnessBsdf {
                 let fd = self.dielectric_fresnel(wo_h).max_element();
                 tint * (1.0 - fd).max(0.0)
             }
-            BrdfModel::Compensated => tint * self.compensated_diffuse_scale(wo.z),
+            BrdfModel::Compensated => tint * self.compensated_diffuse_scale(wo),
         }
     }
 
@@ -255,9 +267,9 @@ impl MetallicRoughnessBsdf {
     /// the diffuse base receives what that lobe does not reflect towards `wo` (albedo
     /// scaling, as OpenPBR and Cycles' Principled BSDF layer it; not reciprocal).
     #[inline]
-    fn compensated_diffuse_scale(&self, cos_o: f32) -> Vec3 {
+    fn compensated_diffuse_scale(&self, wo: Vec3) -> Vec3 {
         let (f0, f90) = (self.dielectric_f0, Vec3::splat(self.dielectric_f90));
-        let e_o = schlick_albedo(ggx_albedo(cos_o, self.alpha()), f0, f90);
+        let e_o = schlick_albedo(self.lobe_albedo(wo), f0, f90);
         (Vec3::ONE - e_o).max(Vec3::ZERO)
     }
 
@@ -265,6 +277,33 @@ impl MetallicRoughnessBsdf {
     #[inline]
     fn alpha(&self) -> f32 {
         (self.distribution.alpha_x * self.distribution.alpha_y).sqrt()
+    }
+
+    /// Whether the distribution is anisotropic (KHR_materials_anisotropy) and rough: its
+    /// albedo then comes from [`anisotropic_albedo`], which depends on `wo`'s azimuth.
+    #[inline]
+    fn anisotropic(&self) -> bool {
+        self.distribution.alpha_x != self.distribution.alpha_y && !self.distribution.is_smooth()
+    }
+
+    /// `(E0, E1)` of the single-scatter specular lobe seen from `wo`.
+    #[inline]
+    fn lobe_albedo(&self, wo: Vec3) -> GgxAlbedo {
+        if self.anisotropic() {
+            anisotropic_albedo::albedo(&self.distribution, wo)
+        } else {
+            ggx_albedo(wo.z, self.alpha())
+        }
+    }
+
+    /// `A0` of the single-scatter specular lobe (its white albedo's cosine average).
+    #[inline]
+    fn lobe_albedo_average(&self) -> f32 {
+        if self.anisotropic() {
+            anisotropic_albedo::albedo_average(&self.distribution).a0
+        } else {
+            ggx_albedo_average(self.alpha()).a0
+        }
     }
 
     /// The rough specular term `(1 − m) F_diel D V + m F_metal D V` at half vector `h`.
@@ -277,11 +316,10 @@ impl MetallicRoughnessBsdf {
         let f = match self.model {
             BrdfModel::Spec => (1.0 - self.metallic) * diel + self.metallic * metal,
             BrdfModel::Compensated => {
-                let alpha = self.alpha();
-                let e = ggx_albedo(wo.z, alpha);
+                let e = self.lobe_albedo(wo);
                 let f_ms = multiple_scattering_fresnel(
                     schlick_fresnel_average(self.base_color, Vec3::ONE),
-                    ggx_albedo_average(alpha).a0,
+                    self.lobe_albedo_average(),
                 );
                 (1.0 - self.metallic) * diel
                     + self.metallic * metal * multiple_scattering_factor(e, f_ms)

@@ -66,6 +66,33 @@ impl TrowbridgeReitz {
         Self::isotropic(r * r)
     }
 
+    /// KHR_materials_anisotropy's distribution for perceptual `roughness` and
+    /// `anisotropyStrength` `strength` (both clamped to [0, 1]): `αx = αt = mix(α, 1,
+    /// strength²)` along the anisotropy direction (local X), `αy = αb = α`, with `α =
+    /// roughness²`. Strength 0 is exactly [`from_roughness`](Self::from_roughness). When
+    /// `αt` is rough, `αb` is kept at least [`SMOOTH_ALPHA`] (a lobe smooth along one axis
+    /// only is a line no sampler or density resolves in single precision; the Khronos sample
+    /// viewer clamps it the same way).
+    pub fn from_roughness_anisotropy(roughness: f32, strength: f32) -> Self {
+        let iso = Self::from_roughness(roughness);
+        let s = if strength.is_finite() {
+            strength.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        if s <= 0.0 {
+            return iso;
+        }
+        let a = iso.alpha_x;
+        let at = a + (1.0 - a) * s * s;
+        let ab = if at >= SMOOTH_ALPHA {
+            a.max(SMOOTH_ALPHA)
+        } else {
+            a
+        };
+        Self::new(at, ab)
+    }
+
     /// Whether the surface is handled as a delta (smooth) interface: both α below
     /// [`SMOOTH_ALPHA`].
     #[inline]

@@ -11,6 +11,7 @@
 //! One BSDF per file, each with its formula in its doc block.
 
 pub mod albedo_quadrature;
+pub mod anisotropic_albedo;
 pub mod clearcoat;
 pub mod compensated_sampling;
 pub mod dielectric;

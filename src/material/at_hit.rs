@@ -14,8 +14,10 @@
 //!    face scatters like its front but emits nothing);
 //! 7. metallic and roughness: factors × metallic-roughness texture (or, converted from
 //!    KHR_materials_pbrSpecularGlossiness, the specular colour and glossiness texture);
-//! 8. the KHR_materials layers (their textures at the hit, the coat's own normal map);
-//! 9. the BSDF: glTF's metallic-roughness BRDF, or the layered BSDF over it.
+//! 8. KHR_materials_anisotropy: strength and direction ([`super::anisotropy`]), which
+//!    becomes the X axis of the BSDF's frame;
+//! 9. the KHR_materials layers (their textures at the hit, the coat's own normal map);
+//! 10. the BSDF: glTF's metallic-roughness BRDF, or the layered BSDF over it.
 //!
 //! The result does not depend on the integrator: the direct integrator and the path tracer
 //! shade the same BSDF and differ only in which lobes they continue through. This is
@@ -26,7 +28,7 @@
 //! differential has no footprint.
 
 use super::scattering::SurfaceBsdf;
-use super::{ShadingMaterial, layers, normal_map};
+use super::{ShadingMaterial, anisotropy, layers, normal_map};
 use crate::accel::Hit;
 use crate::bsdf::Frame;
 use crate::geometry::{SurfaceInteraction, shading_normal};
@@ -135,9 +137,16 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
         // Unlit materials ignore their emissive factor: their ρ is what leaves them.
         emission = Vec3::ZERO;
     }
-    let frame = match mapped_tangent {
-        Some(t) => Frame::from_normal_tangent(si.ns, t),
-        None => Frame::from_normal(si.ns),
+    // KHR_materials_anisotropy: the frame's X axis is the anisotropy direction.
+    let anisotropy = material
+        .anisotropy
+        .as_ref()
+        .filter(|_| q.scatters && !material.unlit)
+        .and_then(|a| anisotropy::at_hit(textures, &at, a, si.ns));
+    let frame = match (anisotropy, mapped_tangent) {
+        (Some(a), _) => Frame::from_normal_tangent(si.ns, a.direction),
+        (None, Some(t)) => Frame::from_normal_tangent(si.ns, t),
+        (None, None) => Frame::from_normal(si.ns),
     };
     let bsdf = (q.scatters && !material.unlit).then(|| {
         let (metallic_roughness, specular_tint) = metallic_roughness(textures, &at, material);
@@ -151,10 +160,11 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
             }
             other => *other,
         };
-        SurfaceBsdf::new(
+        SurfaceBsdf::anisotropic(
             albedo,
             metallic_roughness,
             specular_tint,
+            anisotropy.map_or(0.0, |a| a.strength),
             material,
             layers.as_ref(),
             si.front_face,

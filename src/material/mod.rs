@@ -10,6 +10,7 @@
 //! (KHR_materials_unlit) emits ρ and scatters nothing. [`normal_map`] turns a normal
 //! texture's texel into the shading normal; [`layers`] holds the KHR_materials layers.
 
+pub mod anisotropy;
 pub mod at_hit;
 pub mod layers;
 pub mod normal_map;
@@ -58,6 +59,8 @@ pub struct ShadingMaterial {
     pub normal_texture: Option<crate::scene::NormalTextureRef>,
     /// KHR_materials clear coat, sheen, transmission and volume (`None` without any).
     pub layers: Option<layers::ShadingLayers>,
+    /// KHR_materials_anisotropy (`None` without it, or with strength 0).
+    pub anisotropy: Option<crate::scene::layers::Anisotropy>,
     /// Energy-compensated or Appendix-B metallic-roughness model (the render's choice).
     pub brdf: BrdfModel,
 }
@@ -87,6 +90,12 @@ impl ShadingMaterial {
                 .filter(|n| n.texture.texture < texture_count),
             layers: layers::ShadingLayers::of(material)
                 .map(|l| l.with_valid_textures(texture_count)),
+            anisotropy: material
+                .anisotropy
+                .map(|a| crate::scene::layers::Anisotropy {
+                    texture: valid(&a.texture),
+                    ..a
+                }),
             brdf: BrdfModel::default(),
         }
     }
@@ -109,6 +118,7 @@ impl ShadingMaterial {
             || self.normal_texture.is_some()
             || self.procedural.is_some()
             || self.layers.is_some_and(|l| l.has_textures())
+            || self.anisotropy.is_some_and(|a| a.texture.is_some())
     }
 
     /// The materials of `scene`, plus glTF's default material at the end for meshes whose

@@ -33,7 +33,33 @@ impl SurfaceBsdf {
         layers: Option<&ShadingLayers>,
         front_face: bool,
     ) -> Self {
+        Self::anisotropic(
+            base_color,
+            (metallic, roughness),
+            specular_tint,
+            0.0,
+            material,
+            layers,
+            front_face,
+        )
+    }
+
+    /// [`new`](Self::new) with KHR_materials_anisotropy's strength at the hit (0: isotropic,
+    /// exactly [`new`](Self::new)): the metal's and the opaque dielectric's specular lobes
+    /// stretch along the local X axis of the BSDF's frame (see
+    /// [`MetallicRoughnessBsdf::with_anisotropy`]). Transmission and the coat stay isotropic.
+    #[inline]
+    pub fn anisotropic(
+        base_color: Vec3,
+        (metallic, roughness): (f32, f32),
+        specular_tint: Vec3,
+        anisotropy: f32,
+        material: &ShadingMaterial,
+        layers: Option<&ShadingLayers>,
+        front_face: bool,
+    ) -> Self {
         let base = MetallicRoughnessBsdf::new(base_color, metallic, roughness)
+            .with_anisotropy(roughness, anisotropy)
             .with_dielectric_fresnel(
                 material.ior,
                 material.specular,

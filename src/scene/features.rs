@@ -30,8 +30,8 @@ pub struct SceneFeatures {
     pub single_sided: bool,
     /// At least one material with alphaMode MASK or BLEND (hits need an alpha test).
     pub alpha: bool,
-    /// At least one material with a normal map or clear-coat normal map (hits build tangent
-    /// frames; implies
+    /// At least one material with a normal map, clear-coat normal map or anisotropy (hits
+    /// build tangent frames; implies
     /// `textures`).
     pub normal_maps: bool,
     /// At least one material with KHR_materials layers (clear coat, sheen, transmission):
@@ -92,7 +92,9 @@ impl SceneFeatures {
             f.normal_maps |= material.normal_texture.is_some()
                 || material
                     .clearcoat
-                    .is_some_and(|c| c.normal_texture.is_some());
+                    .is_some_and(|c| c.normal_texture.is_some())
+                || material.anisotropy.is_some();
+            f.textures |= material.anisotropy.is_some_and(|a| a.texture.is_some());
             f.layered_materials |= material.clearcoat.is_some()
                 || material.sheen.is_some()
                 || material.transmission.is_some();

@@ -44,6 +44,20 @@ pub struct Transmission {
     pub texture: Option<TextureRef>,
 }
 
+/// KHR_materials_anisotropy: the metal's and the dielectric's specular lobes stretched along
+/// a direction in the tangent plane (see [`crate::material::anisotropy`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Anisotropy {
+    /// `anisotropyStrength` in [0, 1]: `αt = mix(α, 1, strength²)`, `αb = α`.
+    pub strength: f32,
+    /// `anisotropyRotation` (radians, counter-clockwise from the tangent toward the
+    /// bitangent): rotates the direction.
+    pub rotation: f32,
+    /// `anisotropyTexture` (linear): red and green are the direction in the tangent frame
+    /// (`2c − 1`), blue multiplies `strength`.
+    pub texture: Option<TextureRef>,
+}
+
 /// KHR_materials_volume: the medium enclosed by the mesh's surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Volume {

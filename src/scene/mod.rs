@@ -240,6 +240,8 @@ pub struct Material {
     pub transmission: Option<layers::Transmission>,
     /// KHR_materials_volume, if the material has it (meaningful with transmission only).
     pub volume: Option<layers::Volume>,
+    /// KHR_materials_anisotropy, if the material has it with a non-zero strength.
+    pub anisotropy: Option<layers::Anisotropy>,
     /// glTF `normalTexture` and its `scale` (see [`crate::material::normal_map`]).
     pub normal_texture: Option<NormalTextureRef>,
     /// glTF `alphaMode` (with `alphaCutoff`): how the coverage α = baseColorFactor.a ×
@@ -293,6 +295,7 @@ impl Default for Material {
             sheen: None,
             transmission: None,
             volume: None,
+            anisotropy: None,
         }
     }
 }

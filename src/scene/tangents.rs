@@ -33,8 +33,9 @@ use std::collections::HashMap;
 pub enum TangentError {
     /// The normal texture reads a texture-coordinate set the mesh does not have.
     #[error(
-        "its normal texture reads TEXCOORD_{0}, which the mesh lacks, so no tangents can be \
-         generated and the normal map is ignored (add the UV set, or TANGENTs, to the mesh)"
+        "its normal texture (or anisotropy) reads TEXCOORD_{0}, which the mesh lacks, so no \
+         tangents can be generated and the normal map (or anisotropy) is ignored (add the UV \
+         set, or TANGENTs, to the mesh)"
     )]
     MissingTexcoords(usize),
     /// Splitting vertices at tangent seams would pass 32-bit vertex indices.

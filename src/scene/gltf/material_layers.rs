@@ -1,4 +1,4 @@
-//! KHR_materials_clearcoat, _sheen, _transmission and _volume → the layer fields of a
+//! KHR_materials_clearcoat, _sheen, _transmission, _volume and _anisotropy → the layer fields of a
 //! [`Material`](crate::scene::Material).
 //!
 //! Factors are read from the material's extension objects and clamped to their ranges (with
@@ -12,7 +12,7 @@
 use super::limits;
 use super::normal_texture::TextureSlot;
 use super::source::Origin;
-use crate::scene::layers::{Clearcoat, Sheen, Transmission, Volume};
+use crate::scene::layers::{Anisotropy, Clearcoat, Sheen, Transmission, Volume};
 use crate::scene::texture_decode::ColorSpace;
 use crate::scene::{NormalTextureRef, TextureRef};
 use ::gltf::json::Value;
@@ -29,6 +29,8 @@ pub struct Layers {
     pub transmission: Option<Transmission>,
     /// KHR_materials_volume.
     pub volume: Option<Volume>,
+    /// KHR_materials_anisotropy.
+    pub anisotropy: Option<Anisotropy>,
 }
 
 /// Reads the layer extensions of `material` (`label` names it in warnings). Their textures
@@ -156,6 +158,25 @@ where
             attenuation_color,
             attenuation_distance,
         });
+    }
+    if let Some(ext) = material.extension_value("KHR_materials_anisotropy") {
+        let ext_name = "KHR_materials_anisotropy";
+        let strength = reader.number(ext, ext_name, "anisotropyStrength", 0.0, 0.0, 1.0);
+        let rotation = reader.number(ext, ext_name, "anisotropyRotation", 0.0, f32::MIN, f32::MAX);
+        // Strength 0 is isotropic whatever the texture says (it only multiplies).
+        if strength > 0.0 {
+            layers.anisotropy = Some(Anisotropy {
+                strength,
+                rotation,
+                texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "anisotropyTexture",
+                    ColorSpace::Linear,
+                ),
+            });
+        }
     }
     layers
 }
@@ -414,12 +435,39 @@ mod tests {
     }
 
     #[test]
+    fn anisotropy_is_read_with_its_texture_and_strength_zero_is_none() {
+        let json = format!(
+            r#"{{"asset": {{"version": "2.0"}}, {TEXTURES},
+            "extensionsUsed": ["KHR_materials_anisotropy"],
+            "materials": [{{"extensions": {{"KHR_materials_anisotropy": {{
+                "anisotropyStrength": 0.6, "anisotropyRotation": 1.57,
+                "anisotropyTexture": {{"index": 2, "texCoord": 1}}}}}}}}]}}"#
+        );
+        let (layers, requests, warnings) = read_first(json.as_bytes());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(requests, [(2, 1, ColorSpace::Linear)]);
+        let a = layers.anisotropy.expect("anisotropy");
+        assert_eq!((a.strength, a.rotation), (0.6, 1.57));
+        assert_eq!(a.texture.map(|t| (t.texture, t.texcoord)), Some((2, 1)));
+        let zero = br#"{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_anisotropy"],
+            "materials": [{"extensions": {"KHR_materials_anisotropy": {"anisotropyRotation": 1}}}]}"#;
+        let (layers, _, _) = read_first(zero);
+        assert_eq!(layers.anisotropy, None);
+        let clamped = br#"{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_anisotropy"],
+            "materials": [{"extensions": {"KHR_materials_anisotropy": {"anisotropyStrength": 3}}}]}"#;
+        let (layers, _, warnings) = read_first(clamped);
+        assert_eq!(layers.anisotropy.map(|a| a.strength), Some(1.0));
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+    }
+
+    #[test]
     fn the_layer_extensions_are_declared_supported() {
         for e in [
             "KHR_materials_clearcoat",
             "KHR_materials_sheen",
             "KHR_materials_transmission",
             "KHR_materials_volume",
+            "KHR_materials_anisotropy",
         ] {
             assert!(SUPPORTED_EXTENSIONS.contains(&e), "{e}");
         }

@@ -217,6 +217,7 @@ pub fn load(
             sheen: layers.sheen,
             transmission: layers.transmission,
             volume: layers.volume,
+            anisotropy: layers.anisotropy,
         });
     }
 

@@ -121,17 +121,21 @@ pub fn ensure_tangents(
     origin: Origin<'_>,
     warnings: &mut Vec<String>,
 ) {
-    // The base's normal map, else the clear coat's (both share the mesh's tangent frame).
-    let Some(normal) = materials.get(mesh.material).and_then(|m| {
+    // The base's normal map, else the clear coat's (both share the mesh's tangent frame),
+    // else the anisotropy's texture set (TEXCOORD_0 without a texture): KHR_materials_anisotropy
+    // directions live in the same frame.
+    let Some(texcoord) = materials.get(mesh.material).and_then(|m| {
         m.normal_texture
             .or(m.clearcoat.and_then(|c| c.normal_texture))
+            .map(|n| n.texture.texcoord)
+            .or(m.anisotropy.map(|a| a.texture.map_or(0, |t| t.texcoord)))
     }) else {
         return;
     };
     if mesh.tangents.is_some() {
         return;
     }
-    if let Err(err) = crate::scene::tangents::generate(mesh, normal.texture.texcoord) {
+    if let Err(err) = crate::scene::tangents::generate(mesh, texcoord) {
         warnings.push(format!("{}: {}: {err}", origin.file.display(), mesh.name));
     }
 }

@@ -22,6 +22,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_volume",
     "KHR_materials_variants",
+    "KHR_materials_anisotropy",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     #[cfg(feature = "meshopt")]
