@@ -7,6 +7,7 @@ mod support;
 mod adaptive;
 mod alpha;
 mod analytic;
+mod anisotropy;
 mod area_lights;
 mod clamp_indirect;
 mod direct_bsdf;

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
+# measurement: what Blender's glTF importer does to morphed normals without NORMAL targets (docs/materials.md). Run: target/tools-venv/bin/python tools/blender_morph_normals.py
 """What Blender's glTF importer does to the normals of a morphed primitive whose targets carry
 no NORMAL (issue 34). glTF 2.0, 3.7.2.2: "Attributes present in the base mesh primitive but
 not included in a given morph target MUST retain their original values for the morph
 target", so the file's normals stay as they are; glint and three.js keep them.
 
-    VENV/bin/python scripts/blender_morph_normals.py      # VENV with the bpy wheel
+    VENV/bin/python tools/blender_morph_normals.py      # VENV with the bpy wheel
 
 Builds a quad in the xy plane with NORMAL +Z and one POSITION-only target that lifts its
 y = 1 edge by 1 (mesh weight 0.5: the quad tilts by 26.6°), imports it as the goldens do
