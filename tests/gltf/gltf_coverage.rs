@@ -351,7 +351,7 @@ fn a_morph_without_normal_targets_keeps_the_files_normals() {
     let mesh = &scene.meshes[0];
     // The geometry is morphed: the far edge is lifted by half the delta.
     assert!((mesh.positions[2] - Vec3::new(1.0, 1.0, 0.5)).length() < 1e-6);
-    let tilted = gltf_fixture::triangle_normal(mesh, 0).normalize();
+    let tilted = crate::support::triangle_normal(mesh, 0).normalize();
     assert!(
         tilted.dot(Vec3::Z) < 0.95,
         "the triangles must tilt ({tilted})"

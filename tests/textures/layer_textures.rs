@@ -322,7 +322,7 @@ fn plane_image(material: Material, textures: Vec<Texture>) -> Vec<f32> {
         textures,
         ..Scene::default()
     };
-    let camera = render_support::ortho(
+    let camera = crate::support::ortho(
         Vec3::new(0.0, 0.0, 3.0),
         Vec3::ZERO,
         Vec3::Y,
