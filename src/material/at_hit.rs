@@ -120,22 +120,12 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
     if let Some(colors) = &mesh.colors {
         albedo *= si.interpolate(colors).unwrap_or(Vec4::ONE).truncate();
     }
-    let mut emission = material.emissive;
     if let Some(t) = &material.base_color_texture {
         albedo *= textures.value(&at, t).truncate();
     }
-    if emits
-        && emission != Vec3::ZERO
-        && let Some(t) = &material.emissive_texture
-    {
-        emission *= textures.value(&at, t).truncate();
-    }
+    let emission = emitted(textures, &at, material, emits);
     if let Some(procedural) = &material.procedural {
         albedo *= textures.procedural(&at, procedural);
-    }
-    if !emits || material.unlit {
-        // Unlit materials ignore their emissive factor: their ρ is what leaves them.
-        emission = Vec3::ZERO;
     }
     // KHR_materials_anisotropy: the frame's X axis is the anisotropy direction.
     let anisotropy = material
@@ -179,6 +169,29 @@ pub fn at_hit(textures: &TextureEvaluator<'_>, q: &HitQuery<'_>) -> Option<Surfa
         emission,
         bsdf,
     })
+}
+
+/// The emission rule, the one place it is decided: the radiance a point of `material` at `at`
+/// sends toward `at.si.wo`, on a side that `emits` (a front face, or either face of a
+/// double-sided material): the emissive factor times the emissive texture (read only where the
+/// factor is not black). Zero on other sides and for unlit materials, which ignore their
+/// emissive factor (their ρ is what leaves them). Used for hits ([`at_hit`]) and for points
+/// the light sampler draws on emissive triangles (the integrator's light samples), so both
+/// strategies of MIS see the same `Le`.
+#[inline]
+pub fn emitted(
+    textures: &TextureEvaluator<'_>,
+    at: &TexturePoint<'_>,
+    material: &ShadingMaterial,
+    emits: bool,
+) -> Vec3 {
+    if !emits || material.unlit || material.emissive == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    match &material.emissive_texture {
+        Some(t) => material.emissive * textures.value(at, t).truncate(),
+        None => material.emissive,
+    }
 }
 
 /// The hit's metallic and roughness: the material's factors times its metallic-roughness

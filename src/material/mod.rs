@@ -16,7 +16,7 @@ pub mod layers;
 pub mod normal_map;
 pub mod scattering;
 
-pub use at_hit::{HitQuery, SurfaceAtHit, at_hit};
+pub use at_hit::{HitQuery, SurfaceAtHit, at_hit, emitted};
 pub use scattering::SurfaceBsdf;
 
 use crate::bsdf::BrdfModel;

@@ -16,42 +16,12 @@
 //! rays, as for the coverage AOV. Counts are integers summed per tile, so they are the same
 //! for any thread count.
 
+pub use super::aov::InstanceSamples;
 use super::film::TileSums;
-use super::ids::{self, NO_ID, PixelCoverage};
+use super::ids::{self, NO_ID};
 use super::visibility::RayBatch;
 use super::wavefront::TileContext;
 use crate::accel::{Hit, Ray};
-
-/// The per-pixel sample counts of a render's instances: what annotations are made from.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct InstanceSamples {
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Per pixel (row-major): the samples whose first accepted hit is on each instance ID,
-    /// background ([`NO_ID`]) included, so that a pixel's counts sum to its sample count.
-    pub visible: Vec<PixelCoverage>,
-    /// Per pixel: the samples whose ray pierces each instance ID (never the background).
-    pub amodal: Vec<PixelCoverage>,
-}
-
-impl InstanceSamples {
-    /// The number of camera samples pixel `index` (row-major) received.
-    pub fn samples(&self, index: usize) -> u64 {
-        self.visible
-            .get(index)
-            .map_or(0, |p| p.iter().map(|&(_, n)| u64::from(n)).sum())
-    }
-
-    /// The count of instance `id` in `counts` (0 if absent).
-    pub fn count_of(counts: &PixelCoverage, id: u32) -> u32 {
-        counts
-            .iter()
-            .find(|&&(known, _)| known == id)
-            .map_or(0, |&(_, n)| n)
-    }
-}
 
 /// Records, for one batch of camera rays (`rays[i]` is tile pixel `pixels[i]`'s, `hits[i]` its
 /// accepted first hit; all pixels, or those adaptive sampling has not stopped), every instance

@@ -4,44 +4,11 @@
 //! `Σ w·L / Σ w` over its own samples only (filter importance sampling: no splats into
 //! neighbours), so the result does not depend on the order tiles finish in.
 
-use super::amodal::InstanceSamples;
-use super::ground_truth::GeometricSelection;
-use super::ids::{self, Coverage, PixelCoverage};
+pub use super::aov::Image;
+use super::aov::{self, Coverage, GeometricSelection, InstanceSamples, PixelCoverage};
 use super::tiles::Tile;
 use crate::accel::Hit;
 use glam::{Vec2, Vec3};
-
-/// A row-major image, top row first.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Image<T> {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// `width × height` values.
-    pub pixels: Vec<T>,
-}
-
-impl<T: Copy> Image<T> {
-    /// An image filled with `value`.
-    pub fn filled(width: u32, height: u32, value: T) -> Self {
-        Self {
-            width,
-            height,
-            pixels: vec![value; width as usize * height as usize],
-        }
-    }
-
-    /// The value at `(x, y)`; `None` outside the image.
-    pub fn get(&self, x: u32, y: u32) -> Option<T> {
-        if x >= self.width || y >= self.height {
-            return None;
-        }
-        self.pixels
-            .get(y as usize * self.width as usize + x as usize)
-            .copied()
-    }
-}
 
 /// Which auxiliary images (AOVs) to produce alongside the radiance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -116,9 +83,9 @@ pub struct Aovs {
     /// inside objects, 0 where only the environment is seen, fractional on edges). Always
     /// computed (one add per camera hit); EXR outputs carry it as their `A` channel.
     pub alpha: Option<Image<f32>>,
-    /// See [`AovSelection::instance_id`]; [`ids::NO_ID`] where the centre ray misses.
+    /// See [`AovSelection::instance_id`]; [`aov::NO_ID`] where the centre ray misses.
     pub instance_id: Option<Image<u32>>,
-    /// See [`AovSelection::material_id`]; [`ids::NO_ID`] where the centre ray misses.
+    /// See [`AovSelection::material_id`]; [`aov::NO_ID`] where the centre ray misses.
     pub material_id: Option<Image<u32>>,
     /// See [`AovSelection::coverage`].
     pub coverage: Option<Coverage>,
@@ -276,10 +243,10 @@ impl Film {
             alpha: Image::filled(width, height, 0.0),
             instance_id: aovs
                 .instance_id
-                .then(|| Image::filled(width, height, ids::NO_ID)),
+                .then(|| Image::filled(width, height, aov::NO_ID)),
             material_id: aovs
                 .material_id
-                .then(|| Image::filled(width, height, ids::NO_ID)),
+                .then(|| Image::filled(width, height, aov::NO_ID)),
             coverage: (aovs.coverage || aovs.annotations)
                 .then(|| vec![PixelCoverage::new(); width as usize * height as usize]),
             centre_hits: aovs
@@ -353,7 +320,7 @@ impl Film {
                 let (x, y) = tile.pixel(local);
                 if let Some(dst) = image.get_mut(y as usize * width as usize + x as usize) {
                     for &(id, n) in counts {
-                        ids::count(dst, id, n);
+                        aov::count(dst, id, n);
                     }
                 }
             }
@@ -507,7 +474,7 @@ impl Film {
                     .coverage
                     .as_ref()
                     .filter(|_| self.selection.coverage)
-                    .map(|counts| ids::resolve(width, height, counts)),
+                    .map(|counts| aov::resolve(width, height, counts)),
                 centre_hits: self.centre_hits.clone(),
                 instance_samples: match (&self.coverage, &self.amodal) {
                     (Some(visible), Some(amodal)) => Some(InstanceSamples {

@@ -21,6 +21,7 @@
 //! else more than [`OCCLUSION_TOLERANCE`] of the distance in front of it), or a scene whose
 //! meshes do not correspond at the two times.
 
+pub use super::aov::GeometricSelection;
 use super::film::{Aovs, Image, TileSums};
 use super::projection::FilmProjection;
 use super::stats::RayCounts;
@@ -35,21 +36,6 @@ use glam::{DVec2, DVec3, Vec2, Vec3};
 /// other time to hide it: floating-point slack for a ray that ends on the point's own
 /// surface (or its neighbour across an edge).
 pub const OCCLUSION_TOLERANCE: f64 = 1e-4;
-
-/// Which geometric AOVs to compute.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct GeometricSelection {
-    /// Optical-axis depth.
-    pub z: bool,
-    /// World-space position.
-    pub position: bool,
-    /// TEXCOORD_0.
-    pub uv: bool,
-    /// Flow to `t + Δ`.
-    pub flow: bool,
-    /// Flow to `t − Δ`.
-    pub flow_backward: bool,
-}
 
 /// The scene at another time, for flow: its meshes (the same meshes and triangles as the
 /// rendered scene's, posed at that time), their ray queries (for occlusion) and the camera

@@ -24,34 +24,16 @@
 //! same for any thread count. Neither costs anything when not selected: the centre rays are
 //! not traced and the kernels' only addition is one emptiness check per batch of camera rays.
 
-use super::film::{AovSelection, Image, TileSums};
+pub use super::aov::{
+    COVERAGE_LAYERS, Coverage, NO_ID, PixelCoverage, count, resolve, resolve_pixel,
+};
+use super::film::{AovSelection, TileSums};
 use super::stats::RayCounts;
 use super::tiles::Tile;
 use super::visibility::{RayBatch, RayKind};
 use super::wavefront::TileContext;
 use crate::accel::Hit;
 use crate::scene::Scene;
-
-/// The ID of "nothing": a pixel whose centre ray leaves the scene, an unused coverage layer.
-pub const NO_ID: u32 = u32::MAX;
-
-/// How many objects the coverage AOV lists per pixel (K).
-pub const COVERAGE_LAYERS: usize = 4;
-
-/// One pixel's sample counts per instance ID (background as [`NO_ID`]), in order of first
-/// appearance. A handful of entries in practice, so a linear search beats a map.
-pub type PixelCoverage = Vec<(u32, u32)>;
-
-/// The coverage AOV of a whole image: per pixel, up to [`COVERAGE_LAYERS`] instance IDs and
-/// the fraction of the pixel's samples that hit each (see the module documentation).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Coverage {
-    /// Instance IDs by decreasing coverage; [`NO_ID`] in unused layers.
-    pub ids: Image<[u32; COVERAGE_LAYERS]>,
-    /// The fraction of the pixel's samples whose camera ray hit the object first, in
-    /// `[0, 1]`; 0 in unused layers.
-    pub fractions: Image<[f32; COVERAGE_LAYERS]>,
-}
 
 /// The instance ID of copy `instance` of mesh `geom_id` (its glTF node, else the mesh's
 /// index).
@@ -78,15 +60,6 @@ fn material_id(scene: &Scene, hit: &Hit) -> u32 {
         .get(hit.geom_id as usize)
         .and_then(|m| u32::try_from(m.material).ok())
         .unwrap_or(NO_ID)
-}
-
-/// Adds one sample to a pixel's counts.
-#[inline]
-pub fn count(pixel: &mut PixelCoverage, id: u32, n: u32) {
-    match pixel.iter_mut().find(|(known, _)| *known == id) {
-        Some((_, c)) => *c = c.saturating_add(n),
-        None => pixel.push((id, n)),
-    }
 }
 
 /// Records the first hits of one batch of camera rays, `hits[i]` being that of the `i`-th tile
@@ -141,43 +114,6 @@ pub(super) fn trace_centre_ids(
     }
     if aovs.material_id {
         sums.material_id = ids(material_id);
-    }
-}
-
-/// The coverage layers of one pixel from its counts: objects by decreasing count (ties by
-/// increasing ID), background left out, fractions of the pixel's total count.
-pub fn resolve_pixel(counts: &PixelCoverage) -> ([u32; COVERAGE_LAYERS], [f32; COVERAGE_LAYERS]) {
-    let total: u64 = counts.iter().map(|&(_, c)| u64::from(c)).sum();
-    let mut objects: Vec<(u32, u32)> = counts
-        .iter()
-        .copied()
-        .filter(|&(id, _)| id != NO_ID)
-        .collect();
-    objects.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-    let mut ids = [NO_ID; COVERAGE_LAYERS];
-    let mut fractions = [0.0; COVERAGE_LAYERS];
-    for (slot, &(id, c)) in objects.iter().take(COVERAGE_LAYERS).enumerate() {
-        ids[slot] = id;
-        // In f64 so that the fraction is the correctly rounded count ratio.
-        fractions[slot] = (f64::from(c) / total.max(1) as f64) as f32;
-    }
-    (ids, fractions)
-}
-
-/// The coverage AOV of a `width × height` image from its per-pixel counts (row-major).
-pub fn resolve(width: u32, height: u32, counts: &[PixelCoverage]) -> Coverage {
-    let (ids, fractions): (Vec<_>, Vec<_>) = counts.iter().map(resolve_pixel).unzip();
-    Coverage {
-        ids: Image {
-            width,
-            height,
-            pixels: ids,
-        },
-        fractions: Image {
-            width,
-            height,
-            pixels: fractions,
-        },
     }
 }
 

@@ -14,6 +14,7 @@
 
 pub mod adaptive;
 pub mod amodal;
+pub mod aov;
 pub mod camera;
 pub mod film;
 pub mod filter;

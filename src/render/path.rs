@@ -62,7 +62,9 @@ use crate::geometry::{SurfaceInteraction, spawn_ray, spawn_ray_to};
 use crate::guiding::{Directional, Record};
 use crate::light::area::AreaSample;
 use crate::light::{LightSample, NoLightSample, ShadowTarget, Unlit};
-use crate::material::{HitQuery, SurfaceBsdf, at_hit, material_index};
+use crate::material::{
+    HitQuery, ShadingMaterial, SurfaceAtHit, SurfaceBsdf, at_hit, emitted, material_index,
+};
 use crate::texture::TexturePoint;
 use glam::{Vec2, Vec3};
 
@@ -264,9 +266,6 @@ fn escaped(
         && ctx.transport.light_strategy == LightStrategy::Mis;
     let (le, env_pdf) = if weighs {
         env.radiance_and_pdf_with(dir, ctx.lights.env_sampling())
-    } else if primary {
-        // Camera rays that miss: the polynomial mapping (within 10⁻³ texel; no density).
-        (env.radiance_fast(dir), 0.0)
     } else {
         (env.radiance(dir), 0.0)
     };
@@ -355,7 +354,8 @@ struct Queues<'q> {
 }
 
 /// One path vertex, as pbrt-v4's `PathIntegrator::Li` reads: the surface front end, emission
-/// with MIS, a light sample unless every lobe is specular, the continuation.
+/// with MIS ([`add_emission`]), a light sample unless every lobe is specular
+/// ([`sample_light`]), the continuation ([`continue_path`]).
 #[inline(always)]
 fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut Queues<'_>) {
     let (hit, transport) = (v.hit, &ctx.transport);
@@ -388,57 +388,33 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         return;
     };
     let si = &surface.si;
-    let path = &mut v.path;
-    let pixel = path.pixel as usize;
     if v.depth == 0 {
+        let path = &v.path;
         record_first_hit(
             sums,
-            pixel,
+            path.pixel as usize,
             path.filter_weight,
             surface.albedo,
             si.ns,
             hit.t,
         );
     }
-    if surface.unlit {
-        // KHR_materials_unlit: ρ leaves the surface as radiance (from the sides that emit)
-        // and nothing scatters. Light sampling never picks unlit surfaces, so BSDF sampling
-        // finds them with weight 1.
-        if surface.emits {
-            sums.pending[pixel] += path.beta * surface.albedo;
-            q.log.credit(path.record, path.beta * surface.albedo);
-        }
-        return;
-    }
-    if surface.emission != Vec3::ZERO {
-        let w = bsdf_hit_weight(ctx, path, || {
-            ctx.lights.area_pdf(
-                path.origin,
-                path.origin_normal,
-                (hit.geom_id, hit.instance, hit.prim_id),
-                si.p,
-            )
-        });
-        let value = path.beta * surface.emission * w;
-        let value = clamped(ctx, value, path.filter_weight, v.depth >= INDIRECT_DEPTH);
-        sums.pending[pixel] += value;
-        q.log.credit(path.record, value);
-    }
-    let Some(bsdf) = surface.bsdf.as_ref() else {
+    add_emission(ctx, v, &surface, sums, q);
+    let Some(bsdf) = surface.bsdf.as_ref().filter(|_| !surface.unlit) else {
         return;
     };
-    let frame = &surface.frame;
-    let wo = frame.to_local(si.wo);
+    let wo = surface.frame.to_local(si.wo);
     // The guide at this vertex (path tracer, `--guiding`, a wide lobe without delta lobes).
     let guide = if transport.direct_only() {
         None
     } else {
         ctx.guiding.at(si.p, bsdf, wo)
     };
+    let path = &mut v.path;
     if bsdf.flags().has_density() {
         let at = Shading {
             si,
-            frame,
+            frame: &surface.frame,
             wo,
             bsdf,
             transmits: bsdf.flags().transmits(),
@@ -451,10 +427,83 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         };
         sample_light(ctx, &at, &mut path.stream, q);
     }
+    let at = Scattering {
+        material,
+        surface: &surface,
+        bsdf,
+        wo,
+        guide,
+    };
+    continue_path(ctx, &at, path, v.depth, q);
+}
 
-    // The continuation: the path tracer samples the whole BSDF, the direct integrator follows
-    // delta lobes only, up to max_depth reflections.
-    if bounces >= transport.max_depth {
+/// The light a vertex's surface emits toward the path, weighted by MIS against the light
+/// sampler where the light sampler could have drawn it: the emission of
+/// [`at_hit`](fn@crate::material::at_hit), or an unlit material's base colour (weight 1:
+/// light sampling never picks unlit surfaces).
+#[inline(always)]
+fn add_emission(
+    ctx: &TileContext<'_>,
+    v: &Vertex<'_>,
+    surface: &SurfaceAtHit,
+    sums: &mut TileSums,
+    q: &mut Queues<'_>,
+) {
+    let (path, hit, si) = (&v.path, v.hit, &surface.si);
+    let pixel = path.pixel as usize;
+    if surface.unlit {
+        // KHR_materials_unlit: ρ leaves the surface as radiance (from the sides that emit)
+        // and nothing scatters.
+        if surface.emits {
+            sums.pending[pixel] += path.beta * surface.albedo;
+            q.log.credit(path.record, path.beta * surface.albedo);
+        }
+        return;
+    }
+    if surface.emission == Vec3::ZERO {
+        return;
+    }
+    let w = bsdf_hit_weight(ctx, path, || {
+        ctx.lights.area_pdf(
+            path.origin,
+            path.origin_normal,
+            (hit.geom_id, hit.instance, hit.prim_id),
+            si.p,
+        )
+    });
+    let value = path.beta * surface.emission * w;
+    let value = clamped(ctx, value, path.filter_weight, v.depth >= INDIRECT_DEPTH);
+    sums.pending[pixel] += value;
+    q.log.credit(path.record, value);
+}
+
+/// What the continuation of a vertex reads of its surface.
+struct Scattering<'s> {
+    material: &'s ShadingMaterial,
+    surface: &'s SurfaceAtHit,
+    bsdf: &'s SurfaceBsdf,
+    /// `ωo` in the BSDF's frame.
+    wo: Vec3,
+    /// The guide mixed into the continuation, if any.
+    guide: Option<&'s Directional>,
+}
+
+/// The continuation of a vertex at `depth`: the path tracer samples the whole BSDF (or the
+/// mixture with the guide), the direct integrator follows delta lobes only, up to
+/// `max_depth` reflections; Russian roulette from [`RR_START_DEPTH`]; the new ray and path
+/// join the next round.
+#[inline(always)]
+fn continue_path(
+    ctx: &TileContext<'_>,
+    at: &Scattering<'_>,
+    path: &mut PathState,
+    depth: u32,
+    q: &mut Queues<'_>,
+) {
+    let transport = &ctx.transport;
+    let (si, bsdf) = (&at.surface.si, at.bsdf);
+    // Transmission bounces have their own budget, so `max_depth` counts the others.
+    if depth.saturating_sub(path.transmissions) >= transport.max_depth {
         return;
     }
     // The direct integrator continues through delta lobes only: a BSDF without one ends the
@@ -463,34 +512,11 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
     if transport.direct_only() && !bsdf.flags().contains(BsdfFlags::SPECULAR) {
         return;
     }
-    let u_lobe = path.stream.next_1d();
-    let u = path.stream.next_2d();
-    let bs = match guide {
-        // One-sample MIS of BSDF and guide (`render::guided`).
-        Some(g) => {
-            let Some(gs) = super::guided::sample(g, bsdf, frame, wo, u_lobe, u) else {
-                return;
-            };
-            Continuation {
-                wi: gs.wi,
-                weight: gs.weight,
-                pdf: gs.pdf,
-                delta: false,
-                transmission: gs.transmission,
-            }
-        }
-        None => {
-            let Some(bs) = bsdf.sample(wo, u_lobe, u) else {
-                return;
-            };
-            Continuation {
-                wi: frame.to_world(bs.wi),
-                weight: bs.weight,
-                pdf: bs.pdf,
-                delta: bs.delta,
-                transmission: bs.transmission,
-            }
-        }
+    // One 4-D slot per continuation: the direction from the stratified pair, the lobe and
+    // the roulette from the two further dimensions.
+    let [ux, uy, u_lobe, u_roulette] = path.stream.next_4d();
+    let Some(bs) = draw_continuation(at, u_lobe, Vec2::new(ux, uy)) else {
+        return;
     };
     if transport.direct_only() && !bs.delta {
         return;
@@ -512,16 +538,16 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         return;
     }
     let medium = if bs.transmission {
-        let volume = material.layers.filter(|l| l.volume).map(|l| l.sigma);
+        let volume = at.material.layers.filter(|l| l.volume).map(|l| l.sigma);
         path.medium.after_transmission(volume, si.front_face)
     } else {
         path.medium
     };
     let mut beta = path.beta * bs.weight;
-    if transport.russian_roulette && v.depth + 1 >= RR_START_DEPTH && !transport.direct_only() {
+    if transport.russian_roulette && depth + 1 >= RR_START_DEPTH && !transport.direct_only() {
         let fw = path.filter_weight.abs().max(f32::MIN_POSITIVE);
         let survive = (beta.abs().max_element() / fw).min(1.0);
-        if survive <= 0.0 || path.stream.next_1d() >= survive {
+        if survive <= 0.0 || u_roulette >= survive {
             return;
         }
         beta /= survive;
@@ -547,6 +573,35 @@ fn shade(ctx: &TileContext<'_>, v: &mut Vertex<'_>, sums: &mut TileSums, q: &mut
         transmissions,
         ..*path
     });
+}
+
+/// The continuation's direction drawn from the BSDF, or from the one-sample mixture of BSDF
+/// and guide (`render::guided`) where a guide is on; `None` when the draw fails.
+#[inline(always)]
+fn draw_continuation(at: &Scattering<'_>, u_lobe: f32, u: Vec2) -> Option<Continuation> {
+    let frame = &at.surface.frame;
+    match at.guide {
+        Some(g) => {
+            let gs = super::guided::sample(g, at.bsdf, frame, at.wo, u_lobe, u)?;
+            Some(Continuation {
+                wi: gs.wi,
+                weight: gs.weight,
+                pdf: gs.pdf,
+                delta: false,
+                transmission: gs.transmission,
+            })
+        }
+        None => {
+            let bs = at.bsdf.sample(at.wo, u_lobe, u)?;
+            Some(Continuation {
+                wi: frame.to_world(bs.wi),
+                weight: bs.weight,
+                pdf: bs.pdf,
+                delta: bs.delta,
+                transmission: bs.transmission,
+            })
+        }
+    }
 }
 
 /// A continuation drawn at a vertex: from the BSDF, or from the mixture of BSDF and guide.
@@ -576,15 +631,13 @@ fn sample_light(
         at.add(ctx, sample, q);
     }
     for kind in lights.kinds().into_iter().flatten() {
-        let u_choice = if kind.needs_choice {
-            stream.next_1d()
+        // One 4-D slot per light sample (when it needs numbers at all): the point on the
+        // light from the stratified pair, the choice of light from the third dimension.
+        let (u_choice, u) = if kind.needs_choice || kind.needs_position {
+            let [ux, uy, u_choice, _] = stream.next_4d();
+            (u_choice, Vec2::new(ux, uy))
         } else {
-            0.0
-        };
-        let u = if kind.needs_position {
-            stream.next_2d()
-        } else {
-            Vec2::ZERO
+            (0.0, Vec2::ZERO)
         };
         at.add(ctx, lights.sample(kind, si.p, si.ns, u_choice, u), q);
     }
@@ -722,7 +775,8 @@ fn reachable(si: &SurfaceInteraction, wi: Vec3, transmits: bool) -> bool {
 }
 
 /// The radiance the sampled emitter point `ls` sends toward `-ls.wi` (back to the
-/// shading point): its material's emission, textured, on a lit side only.
+/// shading point): the emission rule of `material::emitted`, times the emitter's alpha
+/// coverage.
 #[inline]
 fn emitted_at(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
     let Some(mesh) = ctx.scene.meshes.get(ls.mesh as usize) else {
@@ -735,11 +789,6 @@ fn emitted_at(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
     let ng = ls.normal;
     let wo = -ls.wi;
     let front_face = ng.dot(wo) > 0.0;
-    // Unlit surfaces ignore their emissive factor (their ρ is counted where rays hit them).
-    if !(front_face || material.double_sided) || material.unlit {
-        return Vec3::ZERO;
-    }
-    let mut emission = material.emissive;
     let si = SurfaceInteraction {
         p: ls.point,
         p_error: Vec3::ZERO,
@@ -751,13 +800,15 @@ fn emitted_at(ctx: &TileContext<'_>, ls: &AreaSample) -> Vec3 {
         vertices,
         placement: None,
     };
-    if let Some(t) = &material.emissive_texture {
-        let at = TexturePoint {
-            mesh,
-            si: &si,
-            footprint: None,
-        };
-        emission *= ctx.textures().value(&at, t).truncate();
+    let at = TexturePoint {
+        mesh,
+        si: &si,
+        footprint: None,
+    };
+    let emits = front_face || material.double_sided;
+    let mut emission = emitted(&ctx.textures(), &at, material, emits);
+    if emission == Vec3::ZERO {
+        return emission;
     }
     // An emitter with alpha is hit by BSDF-sampled rays only where (MASK) or as often as
     // (BLEND) its coverage says; its light samples carry the same expectation.

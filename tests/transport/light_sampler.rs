@@ -366,3 +366,49 @@ fn few_delta_lights_are_each_sampled_and_the_rest_chosen() {
     assert_eq!(sampler.delta(Vec3::ZERO).count(), 0);
     assert!(sampler.kinds()[0].is_some_and(|k| k.finite && k.needs_choice));
 }
+
+#[test]
+fn a_thousand_point_lights_estimate_the_sum_of_their_contributions() {
+    // 1,000 point lights (a quarter with a range) over a floor: the light tree's estimate at
+    // each shading point, one light a sample, equals the sum of the lights' closed-form
+    // contributions within 4σ. The tree is deep (about 10 levels), so a wrong probability
+    // anywhere along a path shows.
+    let mut rng = Pcg64::seed_from_u64(1000);
+    let lights: Vec<Light> = (0..1000)
+        .map(|i| Light::Point {
+            position: Vec3::new(
+                rng.random_range(-20.0..20.0),
+                rng.random_range(0.3..6.0),
+                rng.random_range(-20.0..20.0),
+            ),
+            intensity: Vec3::new(
+                rng.random_range(0.05..3.0),
+                rng.random_range(0.05..3.0),
+                rng.random_range(0.05..3.0),
+            ),
+            range: (i % 4 == 0).then_some(rng.random_range(2.0..12.0)),
+        })
+        .collect();
+    let set = LightSet::new(&lights, LightUnits::Radiometric).unwrap();
+    let sampler = LightSampler::new(&set, None, None);
+    assert_eq!(
+        sampler.delta(Vec3::ZERO).count(),
+        0,
+        "1,000 lights are chosen, not split"
+    );
+    for (k, (p, n)) in points().into_iter().enumerate() {
+        let expected: Vec3 = set
+            .lights
+            .iter()
+            .filter_map(|l| l.incident(p).ok())
+            .map(|i| i.irradiance * n.dot(i.wi).max(0.0))
+            .sum();
+        let (mean, se) = mean_and_error(&sample_many(&sampler, p, n, 200_000, 7 + k as u64));
+        let tolerance = 4.0 * se + 1e-5 * expected;
+        assert!(expected.min_element() > 0.0, "point {k} is lit");
+        assert!(
+            (mean - expected).abs().cmple(tolerance).all(),
+            "point {k}: sampler {mean} ± {se} vs the lights one by one {expected}"
+        );
+    }
+}
