@@ -54,6 +54,6 @@ for file in "${crashes[@]}"; do
   echo "  $file (mutant of $from)"
 done
 if [ "${#crashes[@]}" -gt 0 ]; then
-  echo "fuzz.sh: make each a regression test: cp FILE \"\${FILE%.*}.seed\" tests/fuzz-regressions/ and run cargo test --test fuzz_regressions (it must fail until the bug is fixed)"
+  echo "fuzz.sh: make each a regression test: cp FILE \"\${FILE%.*}.seed\" tests/fuzz-regressions/ and run cargo test --test hostile -- fuzz_regressions:: (it must fail until the bug is fixed)"
   exit 1
 fi

@@ -4,8 +4,9 @@
 #[path = "../support/mod.rs"]
 mod support;
 
-mod backend_agreement;
 mod bench_smoke;
 mod embree_shim;
 mod embree_version;
-mod instancing;
+
+/// The slow and statistical tests: `cargo test -- --skip slow::` leaves them out.
+mod slow;

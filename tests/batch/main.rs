@@ -6,4 +6,6 @@ mod support;
 
 mod batch;
 mod batch_claims;
-mod batch_faults;
+
+/// The slow and statistical tests: `cargo test -- --skip slow::` leaves them out.
+mod slow;

@@ -15,6 +15,8 @@ mod bad_input_load;
 mod fuzz_harness;
 mod fuzz_regressions;
 mod hostile_input;
-mod hostile_mutation;
 mod panics;
 mod render_bad_input;
+
+/// The slow and statistical tests: `cargo test -- --skip slow::` leaves them out.
+mod slow;

@@ -4,16 +4,13 @@
 #[path = "../support/mod.rs"]
 mod support;
 
-mod annotations;
 mod converge;
-mod cycles_goldens;
-mod denoise;
 mod determinism;
 mod filters;
-mod ground_truth;
-mod image_hashes;
 mod job_defaults;
 mod output;
 mod progressive;
 mod render_cli;
-mod sampling;
+
+/// The slow and statistical tests: `cargo test -- --skip slow::` leaves them out.
+mod slow;

@@ -11,4 +11,6 @@ mod layer_textures;
 mod normal_maps;
 mod smooth_normals;
 mod texture_lookup_exact;
-mod textures;
+
+/// The slow and statistical tests: `cargo test -- --skip slow::` leaves them out.
+mod slow;

@@ -579,7 +579,7 @@ fn bad_files_are_errors_naming_the_file() {
 /// a map of square lamps 1 to 5 texels wide, `c(L) cos θ / p` per sample, with the
 /// supersampled distribution against one cell per texel. Both are unbiased (their means
 /// agree within 4σ); the supersampled one has the lower variance, by the factor printed
-/// (`cargo test --test environment -- --nocapture`).
+/// (`cargo test --test transport -- environment:: --nocapture`).
 #[test]
 fn supersampling_lowers_the_light_sample_variance_on_small_lamps() {
     let (w, h) = (64usize, 32usize);

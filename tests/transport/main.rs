@@ -4,20 +4,12 @@
 #[path = "../support/mod.rs"]
 mod support;
 
-mod adaptive;
 mod alpha;
 mod analytic;
-mod anisotropy;
-mod area_lights;
 mod clamp_indirect;
 mod direct_bsdf;
-mod environment;
 mod extremes;
-mod furnace_gltf;
-mod guiding;
-mod light_sampler;
-mod mirror;
-mod mis_compensation;
-mod path_tracing;
-mod single_sided_furnace;
 mod volume;
+
+/// The slow and statistical tests: `cargo test -- --skip slow::` leaves them out.
+mod slow;

@@ -1,0 +1,9 @@
+//! The slow and statistical tests of this binary (over about two CPU-seconds a module, or
+//! a statistical test at a stated confidence), kept as they are and grouped here so that
+//! `cargo test -- --skip slow::` runs the fast set (docs/testing.md). The files stay beside
+//! `main.rs`.
+
+#[path = "backend_agreement.rs"]
+mod backend_agreement;
+#[path = "instancing.rs"]
+mod instancing;
