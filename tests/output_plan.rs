@@ -5,14 +5,11 @@
 //! check bookkeeping, not pixels.
 
 #[path = "mutate/mod.rs"]
-#[allow(dead_code)]
 mod mutate;
 
 #[path = "../examples/fuzz/engine.rs"]
-#[allow(dead_code)]
 mod engine;
 #[path = "../examples/fuzz/targets.rs"]
-#[allow(dead_code)]
 mod targets;
 
 use std::path::{Path, PathBuf};
