@@ -4,6 +4,14 @@
 //! are one unit (fault injection between them, then resume). Images are tiny: these tests
 //! check bookkeeping, not pixels.
 
+#[path = "mutate/mod.rs"]
+mod mutate;
+
+#[path = "../examples/fuzz/engine.rs"]
+mod engine;
+#[path = "../examples/fuzz/targets.rs"]
+mod targets;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -704,4 +712,35 @@ fn merge_refuses_parts_with_samples_beyond_their_spp_or_impossible_weights() {
         let err = read_partial_exr(&path).unwrap_err().to_string();
         assert!(err.contains(expected) && !err.contains('\n'), "{err}");
     }
+}
+
+/// The `outputs` fuzz target's oracle over every job file of two jobs (each output spelling ×
+/// sidecar flag), and 3000 seeded three- to eight-job files: the plan accepts a file exactly
+/// when no two planned files are one, and a refusal is one line.
+#[test]
+fn the_outputs_fuzz_target_finds_the_plan_sound_on_every_small_job_file() {
+    use rand::{Rng, SeedableRng};
+    let mut inputs: Vec<Vec<u8>> = Vec::new();
+    for a in 0..20u8 {
+        for b in 0..20u8 {
+            inputs.push(vec![a / 2, a % 2, b / 2, b % 2]);
+        }
+    }
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(20261203);
+    for _ in 0..3000 {
+        let n = rng.random_range(3..=8) * 2;
+        inputs.push((0..n).map(|_| rng.random::<u8>()).collect());
+    }
+    let (mut accepted, mut refused) = (0, 0);
+    for input in &inputs {
+        match targets::outputs(input) {
+            engine::Outcome::Broken(why) => panic!("{input:?}: {why}"),
+            engine::Outcome::Accepted(_) => accepted += 1,
+            engine::Outcome::Refused(_) => refused += 1,
+        }
+    }
+    assert!(
+        accepted > 100 && refused > 100,
+        "{accepted} accepted, {refused} refused"
+    );
 }

@@ -617,11 +617,16 @@ fn camera_override(t: &Table) -> Result<CameraOverride, String> {
         let items = value.as_array().filter(|a| a.len() == 3);
         let numbers: Option<Vec<f32>> = items.and_then(|a| a.iter().map(number).collect());
         let limit = crate::accel::MAX_COORDINATE;
+        // Points get glTF's bound; `up` is a direction, whose length does not matter.
+        let bounded = key != "up";
         match numbers {
-            Some(n) if n.iter().all(|x| x.is_finite() && x.abs() <= limit) => {
+            Some(n)
+                if n.iter()
+                    .all(|x| x.is_finite() && (!bounded || x.abs() <= limit)) =>
+            {
                 Ok(Some(Vec3::new(n[0], n[1], n[2])))
             }
-            Some(n) if n.iter().all(|x| x.is_finite()) || key == "up" => Err(format!(
+            Some(n) if n.iter().all(|x| x.is_finite()) => Err(format!(
                 "camera {key} {n:?} lies beyond ±{limit:e}, where f32 rays lose all precision \
                  (the bound glTF cameras get)"
             )),

@@ -176,7 +176,7 @@ fn injected(kind: &str, name: &str) -> bool {
     #[cfg(debug_assertions)]
     if let Ok(wanted) = std::env::var(FAIL_WRITE_VAR) {
         return wanted.split(',').any(|w| {
-            w.strip_prefix(kind).is_some_and(|n| n == name) && (kind.is_empty() == !w.contains(':'))
+            w.strip_prefix(kind).is_some_and(|n| n == name) && (kind.is_empty() != w.contains(':'))
         });
     }
     let _ = (kind, name);

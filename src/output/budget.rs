@@ -148,7 +148,7 @@ pub fn parse_bytes(text: &str) -> Result<u64, String> {
         .parse()
         .map_err(|_| format!("'{text}' is not a byte count (e.g. 8G, 512M)"))?;
     let bytes = value * scale as f64;
-    if !(bytes.is_finite() && bytes >= 1.0 && bytes < 9.2e18) {
+    if !(1.0..9.2e18).contains(&bytes) {
         return Err(format!(
             "'{text}': give a positive byte count below 8 EiB (e.g. 8G, 512M)"
         ));
