@@ -5,3 +5,5 @@
 
 #[path = "hostile_mutation.rs"]
 mod hostile_mutation;
+#[path = "output_plan.rs"]
+mod output_plan;

@@ -4,27 +4,17 @@
 //! are one unit (fault injection between them, then resume). Images are tiny: these tests
 //! check bookkeeping, not pixels.
 
-#[path = "mutate/mod.rs"]
-mod mutate;
-
-#[path = "../examples/fuzz/engine.rs"]
-mod engine;
-#[path = "../examples/fuzz/targets.rs"]
-mod targets;
-
-use std::path::{Path, PathBuf};
+use crate::{engine, targets};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn demo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/demo.glb")
-}
+use crate::support::demo;
 
+/// `glint ARGS` without the test-only variables a caller's environment may carry.
 fn command(args: &[&str], cwd: &Path) -> Command {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_glint"));
+    let mut command = crate::support::glint_command(args, cwd);
     command
-        .args(args)
-        .current_dir(cwd)
         .env_remove("GLINT_TEST_FAIL_WRITE")
         .env_remove("GLINT_MAX_MEMORY");
     command
@@ -42,9 +32,7 @@ fn glint_failing(args: &[&str], cwd: &Path, fail: &str) -> Output {
         .expect("run glint")
 }
 
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use crate::support::stderr;
 
 /// Asserts a clean refusal: exit status 1, no panic, the last stderr line naming every
 /// `expected` text.
