@@ -5,7 +5,7 @@
 //! check bookkeeping, not pixels.
 
 use crate::{engine, targets};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
