@@ -419,8 +419,11 @@ impl EnvironmentLight {
             u.rem_euclid(1.0)
         };
         let v = fast_angle::fast_atan2((d.x * d.x + d.z * d.z).sqrt(), d.y) * FRAC_1_PI;
-        // `max` first: a NaN direction reads (·, 0) as the exact mapping does, not NaN.
-        Vec2::new(u.min(ONE_MINUS_EPSILON), v.max(0.0).min(ONE_MINUS_EPSILON))
+        // `max` first: a NaN direction reads (·, 0) as the exact mapping does, not NaN
+        // (`clamp` would keep the NaN).
+        #[allow(clippy::manual_clamp)]
+        let v = v.max(0.0).min(ONE_MINUS_EPSILON);
+        Vec2::new(u.min(ONE_MINUS_EPSILON), v)
     }
 
     /// The unit world direction of image coordinates `(u, v)` (inverse of
