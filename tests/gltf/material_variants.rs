@@ -7,26 +7,12 @@
 //! names, with a non-zero exit and no file; `glint info --json` lists the variants and sorts
 //! the extensions into read, ignored and refused.
 
-
+use crate::support::{Fixture, glint, stderr};
 use glam::Vec3;
-use crate::support::Fixture;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 const SIZE: usize = 16;
-
-fn glint(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run glint")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
 
 fn unlit(name: &str, color: [f32; 3]) -> Value {
     json!({

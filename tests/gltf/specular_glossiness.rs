@@ -8,13 +8,12 @@
 //! errors of 0 per channel, and the test proves it can fail: a dielectric of the metal's
 //! colour, or the metal at the wrong roughness, is rejected by the same check.
 
-
+use crate::support::{Fixture, data_uri, png};
+use crate::support::{Furnace, ortho, white_furnace};
 use glam::Vec3;
 use glint::accel::BackendKind;
 use glint::render::BrdfModel;
 use glint::scene::Scene;
-use crate::support::{Fixture, data_uri, png};
-use crate::support::{Furnace, ortho, white_furnace};
 use serde_json::{Value, json};
 
 const SIZE: u32 = 40;

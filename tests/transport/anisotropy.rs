@@ -10,13 +10,12 @@
 //! `αt = mix(α, 1, s²)`, `αb = α`. The half-maximum extents of that profile along `t` and
 //! `b` have a ratio near `αt/αb`; the render must give the f64 ratio within 5 %.
 
-
+use crate::support::{centre_settings, ortho, quad, render_with};
 use glam::{DVec3, Vec2, Vec3, Vec4};
 use glint::accel::BackendKind;
 use glint::render::{Integrator, RenderSettings};
 use glint::scene::layers::Anisotropy;
 use glint::scene::{Light, MagFilter, Material, Scene, Texture, TextureRef, WrapMode};
-use crate::support::{centre_settings, ortho, quad, render_with};
 
 /// Image side (odd: the centre pixel sits on the light's foot).
 const W: u32 = 301;
