@@ -2,7 +2,7 @@
 //! Google's encoder, `tools/make-draco-assets.mjs`, kept in `tests/draco/`) load like their
 //! uncompressed twins in `../shared/khronos` within the quantisation step, and render like
 //! them; a corrupted Draco stream is one clean error; a stream larger than the geometry
-//! budget is refused before it is decoded.
+//! budget is refused before it is decoded, from the counts its own header declares.
 
 use crate::support;
 use crate::support::one_sided_hausdorff as one_sided_distance;
@@ -242,4 +242,50 @@ fn a_stream_over_the_geometry_budget_is_refused_before_decoding() {
     let message = load_bytes(&bytes, &options).expect_err("over the budget");
     assert!(!message.contains('\n'), "{message}");
     assert!(message.contains("geometry"), "{message}");
+}
+
+/// The stream's own declared counts are charged against the geometry budget before the
+/// decoder allocates: Google's 130-byte Box stream declares 24 points (NORMAL and POSITION,
+/// 576 bytes decoded) and 12 faces; a 200-byte budget allows 16 points, and the first
+/// attribute's 288 bytes already pass it. The JSON accessors
+/// are made to claim 3 points and 3 indices, so the refusal can only come from the stream's
+/// header. It is one line, says the decoder declined (not that the data is corrupt) and names
+/// the budget; the same file with its own JSON loads under a budget that fits.
+#[test]
+fn a_draco_stream_declaring_more_points_than_the_budget_is_refused_before_decoding() {
+    let original = std::fs::read(here("Box-draco.glb")).unwrap();
+    let (json, bin) = chunks(&original);
+    let mut doc: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    assert_eq!(doc["bufferViews"][0]["byteLength"], 130, "the Box's stream");
+    for accessor in doc["accessors"].as_array_mut().unwrap() {
+        accessor["count"] = 3.into();
+    }
+    let budget = 200;
+    let options = LoadOptions {
+        max_geometry_bytes: budget,
+        ..LoadOptions::default()
+    };
+    let message = load_bytes(&glb(doc.to_string().as_bytes(), &bin), &options)
+        .expect_err("24 declared points over a 16-point budget");
+    eprintln!("{message}");
+    assert!(!message.contains('\n'), "{message}");
+    assert!(message.starts_with("duck.glb"), "{message}");
+    assert!(
+        message.contains("KHR_draco_mesh_compression")
+            && message.contains(&format!(
+                "decodes to more than the {budget} bytes left of the scene's geometry budget"
+            ))
+            // 24 declared points × one VEC3 of f32: the stream's count, not the JSON's 3.
+            && message.contains("288 decoded attribute bytes, over the caller's ceiling")
+            && message.contains("--max-geometry-bytes")
+            && !message.contains("does not decode"),
+        "{message}"
+    );
+    // The same stream under a budget that holds it (576 attribute bytes + 12 faces × 12).
+    let fits = LoadOptions {
+        max_geometry_bytes: 10_000,
+        ..LoadOptions::default()
+    };
+    let scene = load_bytes(&original, &fits).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(triangles(&scene).len(), 12);
 }
