@@ -110,8 +110,11 @@ fn decode_one(
     let stream = stream_bytes(root, compressed.buffer_view, buffers)?;
     // The decoder's own ceilings: what is left of the geometry budget.
     let left = geometry.left();
-    // Points and faces as the stream declares them, refused before the decoder allocates
-    // for them: a point holds at least a position (12 bytes), a face three indices.
+    // Refused before the decoder allocates: the decoded bytes the stream's declared point
+    // count and attribute layout imply, and its declared faces (three indices each). The
+    // point ceiling is kept for streams the decoder checks it on (draco-core 2.3 reads it
+    // only on its point-cloud path, which glint does not enable; the byte ceiling is what
+    // bounds a mesh's declared points).
     let limits = draco_core::DecodeLimits::default()
         .with_max_points(left / 12)
         .with_max_faces(left / 12)
