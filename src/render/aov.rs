@@ -3,7 +3,7 @@
 //! per-instance sample counts of annotations (`render::amodal`) and the choice of geometric
 //! AOVs (`render::ground_truth`). The film sums and resolves them, the tile kernels fill them;
 //! keeping them here lets the film import no kernel module, so `render/`'s modules import each
-//! other without a circle through `TileContext` (issue 33; `tests/layering.rs` checks it).
+//! other without a circle through `TileContext` (issue 33; `tests/structure/layering.rs` checks it).
 
 /// A row-major image, top row first.
 #[derive(Clone, Debug, PartialEq)]

@@ -58,7 +58,7 @@ pub const MAX_PIXELS: u64 = 1 << 28;
 /// The default transmission bounce budget ([`RenderSettings::max_transmission_depth`]):
 /// enough for a smooth glass sphere's rim, where light bounces many times inside near the
 /// critical angle, to read within 1 % of a depth-512 render in a white furnace
-/// (`tests/furnace_gltf.rs`).
+/// (`tests/transport/furnace_gltf.rs`).
 pub const DEFAULT_MAX_TRANSMISSION_DEPTH: u32 = 64;
 
 /// How to render.

@@ -449,7 +449,7 @@ impl EnvironmentLight {
     /// [`radiance`](Self::radiance) through [`direction_to_uv_fast`](Self::direction_to_uv_fast):
     /// for camera rays that miss (about 70 % of them on a product shot), where no density is
     /// needed. It differs from the exact lookup by at most the lookup's change over the
-    /// mapping's error (under 10⁻³ texel on an 8192-wide map; tests/environment.rs checks
+    /// mapping's error (under 10⁻³ texel on an 8192-wide map; tests/transport/environment.rs checks
     /// every pixel of a frame); nothing that is weighed against environment sampling uses it.
     #[inline]
     pub fn radiance_fast(&self, d: Vec3) -> Vec3 {
