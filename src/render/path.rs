@@ -512,10 +512,9 @@ fn continue_path(
     if transport.direct_only() && !bsdf.flags().contains(BsdfFlags::SPECULAR) {
         return;
     }
-    // One 4-D slot per continuation: the direction from the stratified pair, the lobe and
-    // the roulette from the two further dimensions.
-    let [ux, uy, u_lobe, u_roulette] = path.stream.next_4d();
-    let Some(bs) = draw_continuation(at, u_lobe, Vec2::new(ux, uy)) else {
+    let u_lobe = path.stream.next_1d();
+    let u = path.stream.next_2d();
+    let Some(bs) = draw_continuation(at, u_lobe, u) else {
         return;
     };
     if transport.direct_only() && !bs.delta {
@@ -547,7 +546,7 @@ fn continue_path(
     if transport.russian_roulette && depth + 1 >= RR_START_DEPTH && !transport.direct_only() {
         let fw = path.filter_weight.abs().max(f32::MIN_POSITIVE);
         let survive = (beta.abs().max_element() / fw).min(1.0);
-        if survive <= 0.0 || u_roulette >= survive {
+        if survive <= 0.0 || path.stream.next_1d() >= survive {
             return;
         }
         beta /= survive;
@@ -631,13 +630,15 @@ fn sample_light(
         at.add(ctx, sample, q);
     }
     for kind in lights.kinds().into_iter().flatten() {
-        // One 4-D slot per light sample (when it needs numbers at all): the point on the
-        // light from the stratified pair, the choice of light from the third dimension.
-        let (u_choice, u) = if kind.needs_choice || kind.needs_position {
-            let [ux, uy, u_choice, _] = stream.next_4d();
-            (u_choice, Vec2::new(ux, uy))
+        let u_choice = if kind.needs_choice {
+            stream.next_1d()
         } else {
-            (0.0, Vec2::ZERO)
+            0.0
+        };
+        let u = if kind.needs_position {
+            stream.next_2d()
+        } else {
+            Vec2::ZERO
         };
         at.add(ctx, lights.sample(kind, si.p, si.ns, u_choice, u), q);
     }

@@ -152,22 +152,16 @@ impl PixelSampler {
     }
 }
 
-/// The random numbers one path consumes after its pixel position: per vertex one light
-/// sample (light choice and light point) and one continuation (BSDF lobe, direction, Russian
-/// roulette), bounce after bounce.
+/// The random numbers one path consumes after its pixel position: light choice, light
+/// point, BSDF lobe and direction, Russian roulette, bounce after bounce.
 ///
-/// Each request takes the next *slot*: four numbers from one 4-D point. With Sobol sampling
-/// every slot is its own Owen-scrambled Sobol sequence over the first four Sobol dimensions
-/// (`sobol_burley::sample_4d`, one SIMD pass), indexed by the sample number and seeded by
-/// (pixel, slot): pbrt-v4's and Cycles' "padded" construction, with Cycles' grouping of a
-/// bounce's numbers into 4-D sets. In a slot, dimensions 0 and 1 form a (0, 2)-sequence (used
-/// for the 2-D decisions: the light point, the BSDF direction) and every dimension alone is a
-/// (0, 1)-sequence (the 1-D decisions: light choice, lobe, roulette); slots are independent of
+/// Each request takes the next *slot* and draws one or two numbers from it. With Sobol
+/// sampling every slot is its own 2D Owen-scrambled Sobol sequence, indexed by the sample
+/// number and seeded by (pixel, slot): pbrt-v4's and Cycles' "padded" construction. Any slot
+/// is a well-stratified (0, 2)-sequence over the pixel's samples, slots are independent of
 /// each other, and the dimension count is unlimited (a long path never runs out of Sobol
-/// dimensions). One slot per decision group costs one Sobol evaluation where a slot per
-/// number cost two or three (issue 33). The other modes draw independent uniform numbers per
-/// slot. Slot 0 is the pixel position ([`PixelSampler::offset`]), so a path's own slots start
-/// at 1.
+/// dimensions). The other modes draw independent uniform numbers per slot. Slot 0 is the pixel
+/// position ([`PixelSampler::offset`]), so a path's own slots start at 1.
 #[derive(Clone, Copy, Debug)]
 pub struct SampleStream {
     sobol: bool,
@@ -199,18 +193,37 @@ impl PixelSampler {
 }
 
 impl SampleStream {
-    /// The next slot's four numbers in `[0, 1)⁴`: `[0]` and `[1]` stratified together (a
-    /// 2-D decision), `[2]` and `[3]` each stratified alone (1-D decisions).
+    /// The next two numbers in `[0, 1)²`, stratified together.
     #[inline]
-    pub fn next_4d(&mut self) -> [f32; 4] {
+    pub fn next_2d(&mut self) -> Vec2 {
         let slot = self.slot;
         self.slot = self.slot.wrapping_add(1);
         let h = mix64(self.key ^ (slot as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
         if self.sobol {
-            sobol_burley::sample_4d(self.index, 0, (h ^ (h >> 32)) as u32)
+            let seed = (h ^ (h >> 32)) as u32;
+            // Dimensions 0 and 1 of the slot's sequence, computed together (the crate's
+            // `sample_4d` is bit-identical to `sample` per dimension, one SIMD pass).
+            let [x, y, _, _] = sobol_burley::sample_4d(self.index, 0, seed);
+            Vec2::new(x, y)
         } else {
             let mut rng = Pcg32::seed_from_u64(h);
-            std::array::from_fn(|_| rng.random::<f32>())
+            Vec2::new(rng.random::<f32>(), rng.random::<f32>())
+        }
+    }
+
+    /// The next number in `[0, 1)` (a slot of its own: the first of [`next_2d`]'s pair,
+    /// computed alone).
+    ///
+    /// [`next_2d`]: Self::next_2d
+    #[inline]
+    pub fn next_1d(&mut self) -> f32 {
+        let slot = self.slot;
+        self.slot = self.slot.wrapping_add(1);
+        let h = mix64(self.key ^ (slot as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+        if self.sobol {
+            sobol_burley::sample(self.index, 0, (h ^ (h >> 32)) as u32)
+        } else {
+            Pcg32::seed_from_u64(h).random::<f32>()
         }
     }
 }
@@ -297,37 +310,26 @@ mod tests {
 
     #[test]
     fn stream_slots_are_stratified_and_independent() {
-        // Each slot's first 16 samples fill a 4×4 grid once in dimensions 0 and 1 (a
-        // (0, 2)-sequence) and 16 strata once in each of dimensions 2 and 3; two slots of the
-        // same pixel differ.
+        // Each slot's first 16 samples fill a 4×4 grid once (a (0, 2)-sequence), and two
+        // slots of the same pixel differ.
         let sampler = PixelSampler::new(PixelSampling::Sobol, 16, 5);
         for slot in 0..4 {
-            let (mut cells, mut strata2, mut strata3) = ([0u8; 16], [0u8; 16], [0u8; 16]);
+            let mut cells = [0u8; 16];
             for s in 0..16 {
-                let [x, y, _, _] = slot_point(&sampler, s, slot).map(|v| (v * 4.0) as usize);
-                let [_, _, z, w] = slot_point(&sampler, s, slot).map(|v| (v * 16.0) as usize);
-                cells[y * 4 + x] += 1;
-                strata2[z] += 1;
-                strata3[w] += 1;
+                let mut stream = sampler.stream(7, 3, s);
+                for _ in 0..slot {
+                    stream.next_2d();
+                }
+                let p = stream.next_2d() * 4.0;
+                cells[p.y as usize * 4 + p.x as usize] += 1;
             }
             assert_eq!(cells, [1; 16], "slot {slot}");
-            assert_eq!(strata2, [1; 16], "slot {slot}, dimension 2");
-            assert_eq!(strata3, [1; 16], "slot {slot}, dimension 3");
         }
         let mut a = sampler.stream(7, 3, 0);
-        assert_ne!(a.next_4d(), a.next_4d());
+        assert_ne!(a.next_2d(), a.next_2d());
         let mut b = PixelSampler::new(PixelSampling::Independent, 16, 5).stream(7, 3, 0);
-        let u = b.next_4d();
-        assert!(u.iter().all(|v| (0.0..1.0).contains(v)), "{u:?}");
-    }
-
-    /// Slot `slot` of sample `s` of pixel (7, 3).
-    fn slot_point(sampler: &PixelSampler, s: u32, slot: u32) -> [f32; 4] {
-        let mut stream = sampler.stream(7, 3, s);
-        for _ in 0..slot {
-            stream.next_4d();
-        }
-        stream.next_4d()
+        let (x, y) = (b.next_2d(), b.next_1d());
+        assert!(x.cmpge(Vec2::ZERO).all() && x.cmplt(Vec2::ONE).all() && (0.0..1.0).contains(&y));
     }
 
     #[test]

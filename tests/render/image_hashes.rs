@@ -104,37 +104,37 @@ fn hash_file(path: &Path) -> u64 {
 /// distribution) and no environment map, so the new environment sampling and MIS
 /// compensation do not reach them.
 const EXPECTED: &[(&str, u64)] = &[
-    ("demo/embree/png", 0x61d264cc6b521bf9), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("demo/embree/exr", 0x967d13a2c9d192b5), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
+    ("demo/embree/png", 0x36200afa4f452a82), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
+    ("demo/embree/exr", 0x86b8be1869c08c5f), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("BoxTextured/embree/png", 0xe5cd8cc0aa1d410e), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("BoxTextured/embree/exr", 0x4611b7bf86024b97), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("Cameras/embree/png", 0xd796920dbdea40dc), // re-recorded (issue 22): the energy-compensated BRDF is the default
     ("Cameras/embree/exr", 0x5730bd5d2a13edf2), // re-recorded (issue 22): the energy-compensated BRDF is the default
     ("Suzanne/embree/png", 0x4458455c8b3db9ff), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("Suzanne/embree/exr", 0x62782aae80435a91), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
-    ("DamagedHelmet/embree/png", 0xcf7094e59d56b12c), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("DamagedHelmet/embree/exr", 0x50fa4c8367067b66), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
+    ("DamagedHelmet/embree/png", 0x28f4431051e1cf94), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("DamagedHelmet/embree/exr", 0x23abb67b09723173), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("2CylinderEngine/embree/png", 0x7b9a3a0a57cbd123), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("2CylinderEngine/embree/exr", 0x6d5fb8c2c16b0c94), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
-    ("demo/embree/partial", 0xc9e51f8af602e868), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("demo/embree/progressive", 0xc5097299824e7bfa), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("demo/embree/photometric", 0xeeb08c100bcd6318), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
+    ("demo/embree/partial", 0xb8fe352a15b90df9), // re-recorded (issue 22, glass, then the third slice): bent vertex normals; then the header gains `glint.brdf` (pixels as the glass re-recording)
+    ("demo/embree/progressive", 0x15957dc1c2ea800c), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
+    ("demo/embree/photometric", 0x9a614f32de2bd648), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("batch/embree", 0x778fb7eb17214934), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
-    ("demo/bvh/png", 0x61d264cc6b521bf9), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("demo/bvh/exr", 0x967d13a2c9d192b5), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
+    ("demo/bvh/png", 0x36200afa4f452a82), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
+    ("demo/bvh/exr", 0x86b8be1869c08c5f), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("BoxTextured/bvh/png", 0xe5cd8cc0aa1d410e), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("BoxTextured/bvh/exr", 0x4611b7bf86024b97), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("Cameras/bvh/png", 0xd796920dbdea40dc), // re-recorded (issue 22): the energy-compensated BRDF is the default
     ("Cameras/bvh/exr", 0x5730bd5d2a13edf2), // re-recorded (issue 22): the energy-compensated BRDF is the default
     ("Suzanne/bvh/png", 0x4458455c8b3db9ff), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("Suzanne/bvh/exr", 0x62782aae80435a91), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
-    ("DamagedHelmet/bvh/png", 0xcf7094e59d56b12c), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("DamagedHelmet/bvh/exr", 0x50fa4c8367067b66), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
+    ("DamagedHelmet/bvh/png", 0x28f4431051e1cf94), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
+    ("DamagedHelmet/bvh/exr", 0x23abb67b09723173), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
     ("2CylinderEngine/bvh/png", 0x7b9a3a0a57cbd123), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("2CylinderEngine/bvh/exr", 0x6d5fb8c2c16b0c94), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
-    ("demo/bvh/partial", 0xc9e51f8af602e868), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("demo/bvh/progressive", 0xc5097299824e7bfa), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
-    ("demo/bvh/photometric", 0xeeb08c100bcd6318), // re-recorded (issue 33): one 4-D Sobol slot per light sample and one per continuation
+    ("demo/bvh/partial", 0xb8fe352a15b90df9), // re-recorded (issue 22, glass, then the third slice): bent vertex normals; then the header gains `glint.brdf` (pixels as the glass re-recording)
+    ("demo/bvh/progressive", 0x15957dc1c2ea800c), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
+    ("demo/bvh/photometric", 0x9a614f32de2bd648), // re-recorded (issue 22, glass): interpolated vertex normals are bent so that they mirror the view above the geometric surface
     ("batch/bvh", 0x778fb7eb17214934), // re-recorded (issue 22, second slice): F_ms-weighted metal compensation, albedo-scaled dielectric base
 ];
 

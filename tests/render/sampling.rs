@@ -7,7 +7,6 @@ use crate::support::{emitter, ortho, quad};
 use glam::{DVec2, Vec3};
 use glint::accel::BackendKind;
 use glint::converge::fit_log_slope;
-use glint::render::sampler::PixelSampler;
 use glint::render::{self, FilterSpec, PixelSampling, RenderSettings};
 use glint::scene::Scene;
 
@@ -156,65 +155,4 @@ fn the_exact_coverage_is_right() {
     }
     let area = count as f64 / (grid * grid) as f64 * (WIDTH * HEIGHT) as f64;
     assert!((covered - area).abs() < 1.0, "{covered} vs {area}");
-}
-
-/// Whether `points` (2^m of them in `[0, 1)²`) put exactly one point in every elementary
-/// interval of volume 2^-m: every `2^a × 2^(m−a)` grid, `a = 0..=m`.
-fn one_per_elementary_interval(points: &[[f32; 2]]) -> Result<(), String> {
-    let m = points.len().trailing_zeros();
-    assert_eq!(points.len(), 1 << m);
-    for a in 0..=m {
-        let (nx, ny) = (1usize << a, 1usize << (m - a));
-        let mut cells = vec![0u32; nx * ny];
-        for p in points {
-            cells[(p[1] * ny as f32) as usize * nx + (p[0] * nx as f32) as usize] += 1;
-        }
-        if let Some(i) = cells.iter().position(|&c| c != 1) {
-            return Err(format!("{nx}×{ny} grid, cell {i} holds {}", cells[i]));
-        }
-    }
-    Ok(())
-}
-
-#[test]
-fn every_pair_a_path_uses_is_a_0_2_net_at_power_of_two_counts() {
-    // The dimensions the camera ray and the first vertex draw (10, the first 8 among
-    // them): the pixel position (slot 0), the first light slot and the first continuation
-    // slot (4 each). Each 2-D decision (pixel
-    // position, the slots' dimensions 0 and 1) holds one point per elementary interval at
-    // 2, 4, ..., 256 samples; each 1-D decision (the slots' dimensions 2 and 3) one point
-    // per 1/2^m stratum. Dimensions of different slots are independently scrambled
-    // (padded), so their pairs are only randomly associated, by design.
-    for (seed, (px, py)) in [(0u64, (0u32, 0u32)), (9, (31, 17)), (123, (640, 359))] {
-        let sampler = PixelSampler::new(PixelSampling::Sobol, 256, seed);
-        for m in 1..=8u32 {
-            let n = 1u32 << m;
-            let pixel: Vec<[f32; 2]> = (0..n)
-                .map(|s| sampler.offset(px, py, s).to_array())
-                .collect();
-            one_per_elementary_interval(&pixel)
-                .unwrap_or_else(|e| panic!("pixel, seed {seed}, {n} samples: {e}"));
-            for slot in 0..2 {
-                let points: Vec<[f32; 4]> = (0..n)
-                    .map(|s| {
-                        let mut stream = sampler.stream(px, py, s);
-                        for _ in 0..slot {
-                            stream.next_4d();
-                        }
-                        stream.next_4d()
-                    })
-                    .collect();
-                let pair: Vec<[f32; 2]> = points.iter().map(|p| [p[0], p[1]]).collect();
-                one_per_elementary_interval(&pair)
-                    .unwrap_or_else(|e| panic!("slot {slot}, {n} samples: {e}"));
-                for d in [2, 3] {
-                    let mut strata = vec![0u32; n as usize];
-                    for p in &points {
-                        strata[(p[d] * n as f32) as usize] += 1;
-                    }
-                    assert!(strata.iter().all(|&c| c == 1), "slot {slot} dim {d}, {n}");
-                }
-            }
-        }
-    }
 }
