@@ -57,6 +57,7 @@ pub fn render_batch<'py>(
                         None,
                         None,
                         None,
+                        None,
                         glint::scene::gltf::DEFAULT_MAX_TEXTURE_PIXELS,
                         glint::scene::gltf::DEFAULT_MAX_GEOMETRY_BYTES,
                     )
