@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::support::demo;
+use crate::support::{demo, files_in};
 
 /// `glint ARGS` without the test-only variables a caller's environment may carry.
 fn command(args: &[&str], cwd: &Path) -> Command {
@@ -54,15 +54,6 @@ fn job_file(dir: &Path, name: &str, body: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 #[test]
@@ -471,19 +462,19 @@ fn a_jobs_outputs_are_one_unit_under_a_full_disk_and_resume_writes_them_all() {
         .filter(|l| l.contains("no space left"))
         .collect();
     assert_eq!(lines.len(), 1, "the error is one line: {err}");
-    assert_eq!(names(d), ["j.toml"], "no output, no temporary");
+    assert_eq!(files_in(d), ["j.toml"], "no output, no temporary");
     // The image's rename fails after the sidecar's: the sidecar is taken back.
     let out = glint_failing(&["batch", "j.toml", "-q"], d, "rename:a.exr");
     refused(&out, &["a.exr"]);
-    assert_eq!(names(d), ["j.toml"]);
+    assert_eq!(files_in(d), ["j.toml"]);
     // The sidecar's write fails: the image is not written either.
     let out = glint_failing(&["batch", "j.toml", "-q"], d, "a.json");
     refused(&out, &["a.json"]);
-    assert_eq!(names(d), ["j.toml"]);
+    assert_eq!(files_in(d), ["j.toml"]);
     // Resume writes both.
     let out = glint(&["batch", "j.toml", "-q"], d);
     assert!(out.status.success(), "{}", stderr(&out));
-    assert_eq!(names(d), ["a.exr", "a.json", "j.toml"]);
+    assert_eq!(files_in(d), ["a.exr", "a.json", "j.toml"]);
     // An image without its sidecar (an older glint's failure) is not complete: rendered again.
     std::fs::remove_file(d.join("a.json")).unwrap();
     let out = glint(&["batch", "j.toml", "--report", "r.json", "-q"], d);
@@ -513,7 +504,7 @@ fn a_batch_killed_at_each_commit_step_resumes_to_complete_jobs() {
             serde_json::from_str(&std::fs::read_to_string(d.join("r.json")).unwrap()).unwrap();
         assert_eq!(report["rendered"], 1, "{step}: {report}");
         assert_eq!(
-            names(d),
+            files_in(d),
             ["a.exr", "a.json", "j.toml", "r.json"],
             "{step}: every output, no temporary"
         );

@@ -2,16 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::support::{glint, stderr};
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
+use crate::support::{files_in, glint, stderr};
 
 #[test]
 fn unknown_output_extension_fails_without_writing() {

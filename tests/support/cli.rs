@@ -46,3 +46,18 @@ pub fn job_statuses(report: &serde_json::Value) -> Vec<(u64, String)> {
         })
         .collect()
 }
+
+/// The names of the entries of `dir`, sorted (what a command left behind).
+pub fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("read the folder")
+        .map(|e| {
+            e.expect("a folder entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    names
+}
