@@ -145,6 +145,13 @@ fn table() -> &'static Table {
     TABLE.get_or_init(build)
 }
 
+/// Builds the table now, if no one has yet: called where an anisotropic material is prepared
+/// for a render, so that the first sample that needs it (on one worker, with the others
+/// waiting) does not pay for the integration.
+pub fn prepare() {
+    table();
+}
+
 /// Lower node and weight of the upper one for a coordinate `x ∈ [0, 1]` on `n` nodes.
 #[inline]
 fn position(x: f32, n: usize) -> (usize, f32) {

@@ -70,6 +70,10 @@ impl ShadingMaterial {
     /// loader reports those; the renderer must not index out of bounds).
     pub fn new(material: &Material, texture_count: usize) -> Self {
         let valid = |t: &Option<TextureRef>| t.filter(|r| r.texture < texture_count);
+        if material.anisotropy.is_some() {
+            // Its energy table, built once per process before any tile needs it.
+            crate::bsdf::anisotropic_albedo::prepare();
+        }
         Self {
             base_color: material.base_color.truncate(),
             base_color_texture: valid(&material.base_color_texture),

@@ -175,14 +175,10 @@ pub fn load_selected(path: &Path, selection: &SceneSelection) -> Result<Loaded, 
     load_full(path, selection, &LoadOptions::default())
 }
 
-/// Loads the scene and time `selection` names under `options` (asset root, size budgets),
-/// returning the warnings.
-pub fn load_full(
-    path: &Path,
-    selection: &SceneSelection,
-    options: &LoadOptions,
-) -> Result<Loaded, LoadError> {
-    let bytes = source::read_regular_file(path).map_err(|err| LoadError::Read {
+/// The bytes of the glTF or GLB file at `path`, which must be a regular file (a FIFO or a
+/// device is refused at once instead of blocking).
+pub(crate) fn read_scene_file(path: &Path) -> Result<Vec<u8>, LoadError> {
+    source::read_regular_file(path).map_err(|err| LoadError::Read {
         path: path.to_path_buf(),
         source: match err {
             source::FileError::Io(err) => err,
@@ -190,7 +186,17 @@ pub fn load_full(
                 std::io::Error::other(format!("it is {kind}, not a regular file"))
             }
         },
-    })?;
+    })
+}
+
+/// Loads the scene and time `selection` names under `options` (asset root, size budgets),
+/// returning the warnings.
+pub fn load_full(
+    path: &Path,
+    selection: &SceneSelection,
+    options: &LoadOptions,
+) -> Result<Loaded, LoadError> {
+    let bytes = read_scene_file(path)?;
     load_bytes(
         &bytes,
         Origin {

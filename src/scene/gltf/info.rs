@@ -112,15 +112,7 @@ pub struct ExtensionInfo {
 /// Describes the glTF or GLB file at `path` (its buffers are read as a load reads them, under
 /// `options`' budgets and asset root).
 pub fn inspect(path: &Path, options: &LoadOptions) -> Result<FileInfo, LoadError> {
-    let bytes = source::read_regular_file(path).map_err(|err| LoadError::Read {
-        path: path.to_path_buf(),
-        source: match err {
-            source::FileError::Io(err) => err,
-            source::FileError::NotRegular(kind) => {
-                std::io::Error::other(format!("it is {kind}, not a regular file"))
-            }
-        },
-    })?;
+    let bytes = super::read_scene_file(path)?;
     let origin = Origin {
         file: path,
         files: Files::Folder(super::base_dir(path)),
