@@ -10,6 +10,8 @@ use glint::panics::{self, INTERNAL_ERROR_EXIT};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // First: `batch --force` tells another batch's fresh outputs by this moment.
+    glint::batch::claim::mark_process_start();
     panics::install_quiet_hook();
     let cli = Cli::parse();
     if let Some(isa) = cli.embree_isa

@@ -54,7 +54,7 @@ use std::time::Duration;
 
 mod exclusive;
 
-pub use exclusive::this_process_started;
+pub use exclusive::{mark_process_start, this_process_started};
 
 /// How often the holder of an exclusive claim file touches it.
 pub const HEARTBEAT: Duration = Duration::from_secs(60);

@@ -94,11 +94,34 @@ pub fn process_start(pid: u32) -> Option<u64> {
 /// every Linux architecture glint builds for (x86-64, arm64).
 const USER_HZ: f64 = 100.0;
 
-/// When this process started, as wall-clock time: now minus its age, the age read from
-/// `/proc/uptime` and its start in ticks since boot (`/proc/self/stat`), both in 10 ms ticks,
-/// so good to about 20 ms either way.
-/// `None` where `/proc` does not say, or says something impossible.
+/// This process's start as recorded by [`mark_process_start`], if it was.
+static MARKED_START: std::sync::OnceLock<SystemTime> = std::sync::OnceLock::new();
+
+/// Records now as this process's start, for [`this_process_started`]. The `glint` binary
+/// calls it first thing in `main`, a millisecond or so after the process began: far more
+/// exact than what `/proc` says (10 ms ticks), and exactness matters when one batch follows
+/// another within milliseconds. Later calls change nothing.
+pub fn mark_process_start() {
+    let _ = MARKED_START.set(SystemTime::now());
+}
+
+/// How far the `/proc` estimate of a process's start may err: its two figures count in
+/// 10 ms ticks.
+const PROC_START_ERROR: Duration = Duration::from_millis(20);
+
+/// When this process started, as wall-clock time: the moment [`mark_process_start`]
+/// recorded, or else an estimate from `/proc` (now minus its age, the age from
+/// `/proc/uptime` and its start in ticks since boot in `/proc/self/stat`).
+///
+/// The estimate is pushed [`PROC_START_ERROR`] later (never past now), so that it is never
+/// earlier than the true start: a file written before this process began (by a batch that
+/// ended a moment ago) must never count as written since. The price of the push is at most
+/// a job of a concurrent batch written in the first 20 ms, rendered a second time.
+/// `None` where neither is known, or `/proc` says something impossible.
 pub fn this_process_started() -> Option<SystemTime> {
+    if let Some(marked) = MARKED_START.get() {
+        return Some(*marked);
+    }
     let now = SystemTime::now();
     let uptime: f64 = std::fs::read_to_string("/proc/uptime")
         .ok()?
@@ -113,7 +136,8 @@ pub fn this_process_started() -> Option<SystemTime> {
     if !(0.0..3600.0).contains(&age) {
         return None;
     }
-    now.checked_sub(Duration::from_secs_f64(age))
+    let estimate = now.checked_sub(Duration::from_secs_f64(age))? + PROC_START_ERROR;
+    Some(estimate.min(now))
 }
 
 /// Whether a claim whose file says `owner` (or is unreadable: `None`) and was last touched
