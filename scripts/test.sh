@@ -16,7 +16,8 @@ features=()
 if scripts/fetch-oidn.sh --check; then
     features=(--features denoise)
 fi
-cargo test --locked "${features[@]}" "$@"
+# --no-fail-fast: one run reports every failing test binary, not just the first.
+cargo test --locked --no-fail-fast "${features[@]}" "$@"
 if [ "${GLINT_PYTHON_CHECK:-1}" != "0" ]; then
     tools/check-python.sh
 fi
