@@ -18,19 +18,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 /// The AOV names `aovs=` accepts, as the command line's `--aov` spells them.
-pub const AOV_NAMES: [&str; 11] = [
-    "albedo",
-    "normal",
-    "depth",
-    "instance_id",
-    "material_id",
-    "coverage",
-    "z",
-    "position",
-    "uv",
-    "flow",
-    "flow_backward",
-];
+pub const AOV_NAMES: [&str; 11] = AovSelection::NAMES;
 
 /// The keyword arguments `Scene.render` accepts (`render_batch` jobs also take `scene`).
 pub const RENDER_KEYS: [&str; 33] = [
@@ -228,30 +216,12 @@ pub fn job_from_kwargs(
 
 /// `aovs=[...]` as an [`AovSelection`].
 fn aov_selection(names: &[String]) -> PyResult<AovSelection> {
-    let mut aovs = AovSelection::default();
-    for name in names {
-        let flag = match name.as_str() {
-            "albedo" => &mut aovs.albedo,
-            "normal" => &mut aovs.normal,
-            "depth" => &mut aovs.depth,
-            "instance_id" => &mut aovs.instance_id,
-            "material_id" => &mut aovs.material_id,
-            "coverage" => &mut aovs.coverage,
-            "z" => &mut aovs.z,
-            "position" => &mut aovs.position,
-            "uv" => &mut aovs.uv,
-            "flow" => &mut aovs.flow,
-            "flow_backward" => &mut aovs.flow_backward,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "aovs: unknown AOV {other:?}; the AOVs are {}",
-                    AOV_NAMES.join(", ")
-                )));
-            }
-        };
-        *flag = true;
-    }
-    Ok(aovs)
+    AovSelection::from_names(names.iter().map(String::as_str)).map_err(|other| {
+        PyValueError::new_err(format!(
+            "aovs: unknown AOV {other:?}; the AOVs are {}",
+            AOV_NAMES.join(", ")
+        ))
+    })
 }
 
 /// `camera=`: `None` (the scene's first), an index, or a dict placing a perspective camera.

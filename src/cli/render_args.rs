@@ -420,20 +420,18 @@ pub fn output_path(args: &RenderArgs) -> PathBuf {
 }
 
 fn aov_selection(names: &[AovName]) -> AovSelection {
-    AovSelection {
-        albedo: names.contains(&AovName::Albedo),
-        normal: names.contains(&AovName::Normal),
-        depth: names.contains(&AovName::Depth),
-        instance_id: names.contains(&AovName::InstanceId),
-        material_id: names.contains(&AovName::MaterialId),
-        coverage: names.contains(&AovName::Coverage),
-        z: names.contains(&AovName::Z),
-        position: names.contains(&AovName::Position),
-        uv: names.contains(&AovName::Uv),
-        flow: names.contains(&AovName::Flow),
-        flow_backward: names.contains(&AovName::FlowBackward),
-        annotations: false,
+    use clap::ValueEnum;
+    let mut selection = AovSelection::default();
+    for name in names {
+        // Every `AovName`'s value name is one of `AovSelection::NAMES` (tested below), so
+        // each sets a flag.
+        if let Some(value) = name.to_possible_value()
+            && let Some(flag) = selection.flag_mut(value.get_name())
+        {
+            *flag = true;
+        }
     }
+    selection
 }
 
 /// `--category NAME=CATEGORY`.
@@ -445,5 +443,28 @@ fn parse_category(text: &str) -> Result<(String, String), String> {
         _ => Err(format!(
             "'{text}': give NAME=CATEGORY (a node or mesh name, then its category)"
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::ValueEnum;
+
+    /// `--aov` takes exactly the names of `AovSelection::NAMES`, and each selects its own AOV.
+    #[test]
+    fn aov_names_are_the_one_list() {
+        let names: Vec<String> = AovName::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .map(|v| v.get_name().to_string())
+            .collect();
+        assert_eq!(names, AovSelection::NAMES);
+        for (variant, name) in AovName::value_variants().iter().zip(AovSelection::NAMES) {
+            let selection = aov_selection(&[*variant]);
+            let mut expected = AovSelection::default();
+            *expected.flag_mut(name).unwrap() = true;
+            assert_eq!(selection, expected, "{name}");
+        }
     }
 }

@@ -68,6 +68,49 @@ impl AovSelection {
     pub fn any_ids(&self) -> bool {
         self.instance_id || self.material_id || self.coverage
     }
+
+    /// Every image AOV by name, as `--aov`, job files and Python's `aovs=` spell them: the one
+    /// list (the command line's `AovName` is tested against it).
+    pub const NAMES: [&'static str; 11] = [
+        "albedo",
+        "normal",
+        "depth",
+        "instance_id",
+        "material_id",
+        "coverage",
+        "z",
+        "position",
+        "uv",
+        "flow",
+        "flow_backward",
+    ];
+
+    /// The flag of the AOV called `name` (one of [`Self::NAMES`]), `None` for another name.
+    pub fn flag_mut(&mut self, name: &str) -> Option<&mut bool> {
+        Some(match name {
+            "albedo" => &mut self.albedo,
+            "normal" => &mut self.normal,
+            "depth" => &mut self.depth,
+            "instance_id" => &mut self.instance_id,
+            "material_id" => &mut self.material_id,
+            "coverage" => &mut self.coverage,
+            "z" => &mut self.z,
+            "position" => &mut self.position,
+            "uv" => &mut self.uv,
+            "flow" => &mut self.flow,
+            "flow_backward" => &mut self.flow_backward,
+            _ => return None,
+        })
+    }
+
+    /// The selection of the AOVs named (no annotations); `Err` carries the first unknown name.
+    pub fn from_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<Self, &'a str> {
+        let mut selection = Self::default();
+        for name in names {
+            *selection.flag_mut(name).ok_or(name)? = true;
+        }
+        Ok(selection)
+    }
 }
 
 /// The auxiliary images of a render, each the box-filtered average over the pixel's samples.
@@ -505,6 +548,23 @@ fn safe_div3(sum: Vec3, weight: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_aov_name_selects_one_distinct_aov_and_others_are_refused() {
+        let all = AovSelection::from_names(AovSelection::NAMES).unwrap();
+        assert!(all.any() && all.any_ids() && all.any_geometric() && !all.annotations);
+        let mut seen = Vec::new();
+        for name in AovSelection::NAMES {
+            let one = AovSelection::from_names([name]).unwrap();
+            assert!(one.any(), "{name}");
+            assert!(
+                !seen.contains(&one),
+                "{name} selects what another name does"
+            );
+            seen.push(one);
+        }
+        assert_eq!(AovSelection::from_names(["albedo", "bogus"]), Err("bogus"));
+    }
 
     #[test]
     fn tiles_land_in_place_and_average() {
