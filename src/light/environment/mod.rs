@@ -388,23 +388,15 @@ impl EnvironmentLight {
         self.rotation
     }
 
-    /// The image coordinates `(u, v) ∈ [0, 1)²` of a unit world direction (module doc).
+    /// The image coordinates `(u, v) ∈ [0, 1)²` of a unit world direction (module doc), both
+    /// angles from the polynomial `atan2` of [`fast_angle`]: `u` within
+    /// `FAST_ANGLE_MAX_ERROR / 2π` (modulo 1) and `v` within `FAST_ANGLE_MAX_ERROR / π` of the
+    /// exact mapping's (under 10⁻³ texel on an 8192-wide map). Every lookup and every density
+    /// goes through this one mapping, so escaped rays and environment samples weigh each other
+    /// consistently; it is a quarter of the C library's `atan2f` instructions, and every ray
+    /// that leaves the scene pays it.
     #[inline]
     pub fn direction_to_uv(&self, d: Vec3) -> Vec2 {
-        let phi = d.z.atan2(d.x);
-        let u = (0.5 + (phi + self.rotation) / TAU).rem_euclid(1.0);
-        // atan2(sin θ, cos θ) rather than acos(y): accurate near the poles too.
-        let v = (d.x * d.x + d.z * d.z).sqrt().atan2(d.y) * FRAC_1_PI;
-        // rem_euclid of a tiny negative rounds to 1.0; keep u inside [0, 1).
-        Vec2::new(u.min(ONE_MINUS_EPSILON), v.min(ONE_MINUS_EPSILON))
-    }
-
-    /// [`direction_to_uv`](Self::direction_to_uv) with both angles from the polynomial
-    /// `atan2` ([`FAST_ANGLE_MAX_ERROR`] radians at most), for camera rays that miss: `u` is
-    /// within `FAST_ANGLE_MAX_ERROR / 2π` (modulo 1) and `v` within `FAST_ANGLE_MAX_ERROR / π`
-    /// of the exact mapping's.
-    #[inline]
-    pub fn direction_to_uv_fast(&self, d: Vec3) -> Vec2 {
         let phi = fast_angle::fast_atan2(d.z, d.x);
         let u = 0.5 + (phi + self.rotation) / TAU;
         // One turn up or down covers every rotation within ±π; `rem_euclid` (a library call)
@@ -418,11 +410,12 @@ impl EnvironmentLight {
         } else {
             u.rem_euclid(1.0)
         };
+        // atan2(sin θ, cos θ) rather than acos(y): accurate near the poles too.
         let v = fast_angle::fast_atan2((d.x * d.x + d.z * d.z).sqrt(), d.y) * FRAC_1_PI;
-        // `max` first: a NaN direction reads (·, 0) as the exact mapping does, not NaN
-        // (`clamp` would keep the NaN).
+        // `max` first: a NaN direction reads (·, 0), not NaN (`clamp` would keep the NaN).
         #[allow(clippy::manual_clamp)]
         let v = v.max(0.0).min(ONE_MINUS_EPSILON);
+        // A tiny negative plus one rounds to 1.0; keep u inside [0, 1).
         Vec2::new(u.min(ONE_MINUS_EPSILON), v)
     }
 
@@ -446,16 +439,13 @@ impl EnvironmentLight {
         }
     }
 
-    /// [`radiance`](Self::radiance) through [`direction_to_uv_fast`](Self::direction_to_uv_fast):
-    /// for camera rays that miss (about 70 % of them on a product shot), where no density is
-    /// needed. It differs from the exact lookup by at most the lookup's change over the
-    /// mapping's error (under 10⁻³ texel on an 8192-wide map; tests/transport/environment.rs checks
-    /// every pixel of a frame); nothing that is weighed against environment sampling uses it.
+    /// The radiance at image coordinates `uv ∈ [0, 1)²` (what [`radiance`](Self::radiance)
+    /// reads after mapping its direction), with the map's interpolation.
     #[inline]
-    pub fn radiance_fast(&self, d: Vec3) -> Vec3 {
+    pub fn radiance_at(&self, uv: Vec2) -> Vec3 {
         match &self.kind {
             Kind::Constant(c) => *c,
-            Kind::Map(m) => m.lookup(self.direction_to_uv_fast(d)),
+            Kind::Map(m) => m.lookup(uv),
         }
     }
 
