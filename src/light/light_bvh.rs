@@ -644,7 +644,9 @@ fn positive(x: f32) -> bool {
 fn child_probabilities(ia: f32, ib: f32) -> Option<(f64, f64)> {
     let (ia, ib) = (f64::from(ia), f64::from(ib));
     let sum = ia + ib;
-    if !(sum > 0.0 && sum.is_finite()) {
+    // `sum < ∞` rather than `is_finite()`: the same test here (NaN fails `> 0` already), and
+    // it compiles to one comparison, where `is_finite` on f64 took about 25 instructions a step.
+    if !(sum > 0.0 && sum < f64::INFINITY) {
         return None;
     }
     Some((ia / sum, ib / sum))
