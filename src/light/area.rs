@@ -404,8 +404,10 @@ impl AreaLights {
                     .collect();
                 // Every copy has bounds (its placement exists), so entries stay aligned.
                 debug_assert_eq!(bounds.len(), copy_entries.len());
+                // Past the tree's MAX_ENTRIES (no tree), the power CDF still chooses.
                 LightBvh::with_clusters(&lights, &powers[..lights.len()], &bounds)
                     .map(LightSelector::Bvh)
+                    .or_else(|| Distribution1D::new(&powers).map(LightSelector::Power))
             }
         };
         Ok(Self {
