@@ -33,6 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .clone();
     let accel = render::prepare(&scene, BackendKind::default(), BuildOptions::default())?;
     let settings = |filter: TextureFilter, spp: u32| RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: WIDTH,
         height: HEIGHT,
         spp,

@@ -260,9 +260,9 @@ pub struct KernelBenchArgs {
     /// Worker threads; 0 uses every core.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
-    /// Integrator: `direct` compares the kernels and the raw camera + shadow trace; `path`
-    /// records the path tracer's own rays and replays them unshaded.
-    #[arg(long, value_parser = super::values::integrator(), default_value_t = render::Integrator::Direct)]
+    /// Integrator (the engine's default, `path`): `path` records the path tracer's own rays and
+    /// replays them unshaded; `direct` compares the kernels and the raw camera + shadow trace.
+    #[arg(long, value_parser = super::values::integrator(), default_value_t = RenderSettings::default().integrator)]
     pub integrator: render::Integrator,
     /// Bounces of the path tracer (`--integrator path`).
     #[arg(long, default_value_t = 8)]
@@ -373,6 +373,7 @@ pub fn run_render(args: KernelBenchArgs) -> Result<(), CliError> {
     let accel = render::prepare(&scene, args.backend, BuildOptions::default())
         .map_err(CliError::from_display)?;
     let settings = RenderSettings {
+        integrator: crate::render::Integrator::Direct,
         width: args.width,
         height: args.height,
         spp: args.spp,

@@ -57,7 +57,7 @@ pub struct ConvergeArgs {
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
     /// Light transport measured: path or direct.
-    #[arg(long, value_parser = super::values::integrator(), default_value_t = crate::render::Integrator::Path)]
+    #[arg(long, value_parser = super::values::integrator(), default_value_t = crate::render::RenderSettings::default().integrator)]
     pub integrator: crate::render::Integrator,
     /// Every file the glTF refers to must resolve inside this folder (as for glint render).
     #[arg(long, value_name = "DIR")]

@@ -113,11 +113,7 @@ impl Default for Job {
             light_units: LightUnits::Radiometric,
             width: None,
             height: None,
-            // `glint render` path-traces by default; the engine's own default stays direct.
-            settings: RenderSettings {
-                integrator: Integrator::Path,
-                ..RenderSettings::default()
-            },
+            settings: RenderSettings::default(),
             samples: Samples::All,
             output: None,
             flow_dt: None,

@@ -140,12 +140,13 @@ pub enum LightStrategy {
 /// The light-transport estimator.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Integrator {
-    /// Unidirectional path tracing with next-event estimation and MIS ([`path`]).
+    /// Unidirectional path tracing with next-event estimation and MIS ([`path`]): the
+    /// default, of the engine as of `glint render`, batch jobs and Python.
+    #[default]
     Path,
     /// Direct light only (punctual, area and environment lights by light sampling) plus
     /// specular chains (delta lobes: smooth metal, glass, coat), with the path tracer's BSDF;
     /// exact for up to four delta lights.
-    #[default]
     Direct,
 }
 

@@ -378,6 +378,7 @@ fn merged_parts_equal_the_single_render_with_the_same_seed() {
     let accel =
         glint::render::prepare(&scene, BackendKind::default(), BuildOptions::default()).unwrap();
     let settings = RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: 40,
         height: 30,
         spp: 6,

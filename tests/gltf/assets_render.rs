@@ -32,6 +32,7 @@ fn render_asset(file: &str, backend: BackendKind) -> Vec<Vec3> {
     let accel = render::prepare(&scene, backend, BuildOptions::default())
         .unwrap_or_else(|e| panic!("{file} on {backend}: {e}"));
     let settings = RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: 160,
         height: 90,
         spp: 1,

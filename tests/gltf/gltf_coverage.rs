@@ -773,6 +773,7 @@ fn compressed_ducks_render_like_the_uncompressed_duck() {
     let camera = glint::scene::defaults::default_camera(&reference_scene);
     let lights = glint::scene::defaults::default_lights(&reference_scene, &camera);
     let settings = RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: 160,
         height: 120,
         spp: 1,
@@ -857,6 +858,7 @@ fn every_coverage_model_loads_and_renders_at_rest_and_animated() {
         "Duck/glTF-meshopt/Duck.glb",
     ];
     let settings = RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: 48,
         height: 32,
         spp: 1,

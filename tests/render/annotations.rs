@@ -16,6 +16,7 @@ const SIZE: u32 = 64;
 
 fn settings(spp: u32, threads: usize) -> RenderSettings {
     RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: SIZE,
         height: SIZE,
         spp,

@@ -30,6 +30,7 @@ fn settings(
     seed: u64,
 ) -> RenderSettings {
     RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: 61,
         height: 37,
         spp: 6,

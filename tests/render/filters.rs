@@ -21,6 +21,7 @@ fn pixel_camera(width: u32, height: u32) -> glint::scene::Camera {
 
 fn settings(width: u32, height: u32, spp: u32, filter: FilterSpec) -> RenderSettings {
     RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width,
         height,
         spp,

@@ -19,6 +19,7 @@ fn demo() -> (Scene, Camera) {
 
 fn settings() -> RenderSettings {
     RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width: 96,
         height: 54,
         threads: 2,

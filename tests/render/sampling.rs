@@ -89,6 +89,7 @@ fn edge_rmse(sampling: PixelSampling, spp: u32, seeds: u64) -> f64 {
     let (mut se, mut n) = (0.0, 0usize);
     for seed in 0..seeds {
         let settings = RenderSettings {
+            integrator: glint::render::Integrator::Direct,
             width: WIDTH,
             height: HEIGHT,
             spp,

@@ -91,6 +91,7 @@ pub fn ortho(eye: Vec3, target: Vec3, up: Vec3, xmag: f32, ymag: f32) -> Camera 
 /// Settings for a 1-spp render at pixel centres.
 pub fn centre_settings(width: u32, height: u32) -> RenderSettings {
     RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         width,
         height,
         spp: 1,

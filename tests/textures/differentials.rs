@@ -141,6 +141,7 @@ fn many_mirror_bounces_and_grazing_floors_stay_finite() {
             TextureFilter::Anisotropic,
         ] {
             let settings = RenderSettings {
+                integrator: glint::render::Integrator::Direct,
                 width: 48,
                 height: 32,
                 spp: 2,

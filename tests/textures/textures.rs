@@ -327,6 +327,7 @@ fn filtering_reduces_aliasing_on_the_checker_plane() {
     for &backend in BackendKind::available() {
         let accel = render::prepare(&scene, backend, BuildOptions::default()).unwrap();
         let settings = |filter, spp| RenderSettings {
+            integrator: glint::render::Integrator::Direct,
             width: 192,
             height: 108,
             spp,

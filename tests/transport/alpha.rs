@@ -541,6 +541,7 @@ fn id_aovs_show_the_surface_behind_an_alpha_cut_out() {
     );
     let (w, h) = (8, 4);
     let settings = RenderSettings {
+        integrator: glint::render::Integrator::Direct,
         aovs: glint::render::AovSelection {
             instance_id: true,
             material_id: true,
