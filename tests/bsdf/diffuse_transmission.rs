@@ -114,8 +114,14 @@ fn the_transmitted_lobe_is_reciprocal() {
     let b = leaf(0.2, 0.6, 0.8, BrdfModel::Spec);
     let mut r = rng(41);
     for _ in 0..20_000 {
-        let wo = dir(r.random_range(0.01..1.0), r.random_range(0.0..std::f64::consts::TAU));
-        let wi = dir(-r.random_range(0.01..1.0), r.random_range(0.0..std::f64::consts::TAU));
+        let wo = dir(
+            r.random_range(0.01..1.0),
+            r.random_range(0.0..std::f64::consts::TAU),
+        );
+        let wi = dir(
+            -r.random_range(0.01..1.0),
+            r.random_range(0.0..std::f64::consts::TAU),
+        );
         let (a, c) = (b.eval(wo, wi), b.eval(-wi, -wo));
         assert!(
             (a - c).abs().max_element() <= 1e-4 * a.max_element(),
