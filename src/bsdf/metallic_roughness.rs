@@ -79,8 +79,31 @@
 //! estimator is unbiased for the compensated BRDF. Smooth surfaces: `E0 = 1`, `E1 = (1−μ)⁵`,
 //! so the mirror is unchanged and `E_d` is Schlick's Fresnel at `μ`.
 //!
-//! Reflection only: `wo` below the surface (`wo.z ≤ 0`) reflects nothing; the caller orients
-//! the shading frame toward `wo` for two-sided surfaces.
+//! **Diffuse transmission** (KHR_materials_diffuse_transmission). With `t` the strength
+//! (`diffuseTransmissionFactor × texture A`) and `C_t` its colour, the diffuse base becomes
+//! the extension's `mix(diffuse_brdf(baseColor), diffuse_btdf(C_t), t)` under the same
+//! Fresnel weight:
+//!
+//! ```text
+//! diffuse reflection   (wi above) = (1 − m) · w(wo, wi) · (1 − t) · baseColor / π
+//! diffuse transmission (wi below) = (1 − m) · w(wo, wi) · t · C_t / π
+//!   w = 1 − max F_diel(wo·h)   (spec; below the surface h is the half vector of wo and wi
+//!                               mirrored to wo's side, so w is reciprocal and the pair
+//!                               transmits exactly what the reflection gave up)
+//!   w = 1 − E_d(n·wo)          (compensated)
+//! ```
+//!
+//! The specular lobes and the Fresnel weight are untouched, as the extension says; so a white
+//! compensated dielectric with `t = 1` and a white `C_t` sends `E_d` back and `1 − E_d`
+//! through. The diffuse lobe's selection weight becomes `(1 − t) mean(baseColor) + t
+//! mean(C_t)`, split between a cosine-weighted draw above (reflection) and one below
+//! (transmission) in that ratio. The surface is thin here: what is transmitted leaves from
+//! the other side at the same point (the path tracer puts it into the volume's medium when
+//! KHR_materials_volume makes the surface a volume's boundary). With `t = 0` (every material
+//! without the extension) every formula above is the reflection-only one, bit for bit.
+//!
+//! Reflection only without diffuse transmission: `wo` below the surface (`wo.z ≤ 0`)
+//! reflects nothing; the caller orients the shading frame toward `wo` for two-sided surfaces.
 
 use super::anisotropic_albedo;
 use super::compensated_sampling;
@@ -156,6 +179,11 @@ pub struct MetallicRoughnessBsdf {
     pub dielectric_f90: f32,
     /// Appendix B exactly, or energy-compensated.
     pub model: BrdfModel,
+    /// KHR_materials_diffuse_transmission's strength `t` in [0, 1]: the share of the diffuse
+    /// base transmitted to the other side (0: reflection only).
+    pub diffuse_transmission: f32,
+    /// KHR_materials_diffuse_transmission's colour `C_t`, linear RGB in [0, 1].
+    pub diffuse_transmission_color: Vec3,
 }
 
 /// Dielectric Fresnel `f0` of an index of refraction against air, `((ior − 1)/(ior + 1))²`.
@@ -188,7 +216,36 @@ impl MetallicRoughnessBsdf {
             dielectric_f0: Vec3::splat(0.04),
             dielectric_f90: 1.0,
             model: BrdfModel::Spec,
+            diffuse_transmission: 0.0,
+            diffuse_transmission_color: Vec3::ONE,
         }
+    }
+
+    /// The same BRDF with KHR_materials_diffuse_transmission: a share `strength` (clamped to
+    /// [0, 1]; non-finite is 0) of the diffuse base transmitted with colour `color` (clamped
+    /// to [0, 1]) into the lower hemisphere (see the module documentation). Strength 0
+    /// changes nothing.
+    pub fn with_diffuse_transmission(mut self, strength: f32, color: Vec3) -> Self {
+        let t = if strength.is_finite() {
+            strength.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        if t > 0.0 {
+            self.diffuse_transmission = t;
+            self.diffuse_transmission_color = if color.is_finite() {
+                color.clamp(Vec3::ZERO, Vec3::ONE)
+            } else {
+                Vec3::ONE
+            };
+        }
+        self
+    }
+
+    /// Whether the diffuse base transmits (KHR_materials_diffuse_transmission).
+    #[inline]
+    fn transmits_diffusely(&self) -> bool {
+        self.diffuse_transmission > 0.0
     }
 
     /// The same BRDF under `model` ([`new`](Self::new) gives [`BrdfModel::Spec`], the
@@ -244,16 +301,70 @@ impl MetallicRoughnessBsdf {
         let m = self.metallic;
         let fd = self.dielectric_fresnel(wo.z);
         let s = (1.0 - m) * mean(fd) + m * mean(self.metal_fresnel(wo.z));
-        let d = (1.0 - m) * (1.0 - fd.max_element()).max(0.0) * mean(self.base_color);
+        let d = (1.0 - m) * (1.0 - fd.max_element()).max(0.0) * self.diffuse_selection_weight();
         if s + d > 0.0 { s / (s + d) } else { 1.0 }
+    }
+
+    /// The diffuse lobes' selection weight: `(1 − t) mean(baseColor) + t mean(C_t)` (exactly
+    /// `mean(baseColor)` without diffuse transmission).
+    #[inline]
+    fn diffuse_selection_weight(&self) -> f32 {
+        if self.transmits_diffusely() {
+            let t = self.diffuse_transmission;
+            (1.0 - t) * mean(self.base_color) + t * mean(self.diffuse_transmission_color)
+        } else {
+            mean(self.base_color)
+        }
+    }
+
+    /// The probability that a diffuse draw goes below the surface (transmission): `t
+    /// mean(C_t)` over [`diffuse_selection_weight`](Self::diffuse_selection_weight); 0
+    /// without diffuse transmission.
+    #[inline]
+    fn diffuse_transmission_probability(&self) -> f32 {
+        if !self.transmits_diffusely() {
+            return 0.0;
+        }
+        let through = self.diffuse_transmission * mean(self.diffuse_transmission_color);
+        let all = self.diffuse_selection_weight();
+        if all > 0.0 {
+            (through / all).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
     }
 
     /// The diffuse term: `(1 − metallic)(1 − max F_diel(wo·h)) baseColor/π` (spec), or
     /// `(1 − metallic)(1 − E_d(n·wo)) baseColor/π` (compensated), for both directions above
     /// the surface.
+    /// With diffuse transmission the reflected share is `(1 − t)`.
     #[inline]
     fn diffuse(&self, wo: Vec3, wo_h: f32) -> Vec3 {
-        let tint = self.base_color * ((1.0 - self.metallic) * FRAC_1_PI);
+        // (1 − 0) is exactly 1: without diffuse transmission the product is unchanged.
+        let tint = self.base_color
+            * ((1.0 - self.metallic) * (1.0 - self.diffuse_transmission) * FRAC_1_PI);
+        self.diffuse_weighted(tint, wo, wo_h)
+    }
+
+    /// The diffuse transmission term for `wi` below the surface: `(1 − m) w t C_t / π`, with
+    /// the spec's `w` at the half vector of `wo` and `wi` mirrored above (see the module
+    /// documentation); zero without diffuse transmission.
+    #[inline]
+    fn diffuse_transmitted(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if !self.transmits_diffusely() {
+            return Vec3::ZERO;
+        }
+        let tint = self.diffuse_transmission_color
+            * ((1.0 - self.metallic) * self.diffuse_transmission * FRAC_1_PI);
+        let mirrored = Vec3::new(wi.x, wi.y, -wi.z);
+        let wo_h = Self::half(wo, mirrored).map_or(1.0, |h| wo.dot(h));
+        self.diffuse_weighted(tint, wo, wo_h)
+    }
+
+    /// `tint` under the Fresnel weight of the diffuse base: `1 − max F_diel(wo·h)` (spec) or
+    /// `1 − E_d(n·wo)` (compensated).
+    #[inline]
+    fn diffuse_weighted(&self, tint: Vec3, wo: Vec3, wo_h: f32) -> Vec3 {
         match self.model {
             BrdfModel::Spec => {
                 let fd = self.dielectric_fresnel(wo_h).max_element();
@@ -359,8 +470,15 @@ impl MetallicRoughnessBsdf {
 
 impl Bsdf for MetallicRoughnessBsdf {
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
+        if wo.z <= 0.0 {
             return Vec3::ZERO;
+        }
+        if wi.z <= 0.0 {
+            return if wi.z < 0.0 {
+                self.diffuse_transmitted(wo, wi)
+            } else {
+                Vec3::ZERO
+            };
         }
         let Some(h) = Self::half(wo, wi) else {
             return Vec3::ZERO;
@@ -373,11 +491,16 @@ impl Bsdf for MetallicRoughnessBsdf {
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
+        if wo.z <= 0.0 || wi.z == 0.0 || (wi.z < 0.0 && !self.transmits_diffusely()) {
             return 0.0;
         }
         let ps = self.specular_probability(wo);
-        let diffuse = (1.0 - ps) * cosine_hemisphere_pdf(wi.z);
+        let pt = self.diffuse_transmission_probability();
+        if wi.z < 0.0 {
+            return (1.0 - ps) * pt * cosine_hemisphere_pdf(-wi.z);
+        }
+        // (1 − 0) is exactly 1: without diffuse transmission the product is unchanged.
+        let diffuse = (1.0 - ps) * (1.0 - pt) * cosine_hemisphere_pdf(wi.z);
         if self.distribution.is_smooth() {
             return diffuse;
         }
@@ -408,10 +531,20 @@ impl Bsdf for MetallicRoughnessBsdf {
                     compensated_sampling::sample(&self.distribution, wo, u_choice, u)
                 }
             }
+        } else if self.transmits_diffusely() {
+            // The diffuse draw goes below with probability `pt`, reusing the rest of `u_lobe`.
+            let u_diffuse = ((u_lobe - ps) / (1.0 - ps)).clamp(0.0, 1.0);
+            let wi = cosine_hemisphere(u);
+            if u_diffuse < self.diffuse_transmission_probability() {
+                Vec3::new(wi.x, wi.y, -wi.z)
+            } else {
+                wi
+            }
         } else {
             cosine_hemisphere(u)
         };
-        if wi.z <= 0.0 {
+        let transmission = wi.z < 0.0 && !choose_specular;
+        if wi.z == 0.0 || (wi.z < 0.0 && !transmission) {
             return None;
         }
         let pdf = self.pdf(wo, wi);
@@ -419,23 +552,29 @@ impl Bsdf for MetallicRoughnessBsdf {
         if !pdf.is_finite() || pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
-        let weight = self.eval(wo, wi) * (wi.z / pdf);
+        let weight = self.eval(wo, wi) * (wi.z.abs() / pdf);
         Some(BsdfSample {
             wi,
             weight,
             pdf,
             delta: false,
-            transmission: false,
+            transmission,
         })
     }
 
     fn flags(&self) -> BsdfFlags {
         let specular = BsdfFlags::REFLECTION | BsdfFlags::microfacet(self.distribution.is_smooth());
-        if (1.0 - self.metallic) * self.base_color.max_element() > 0.0 {
+        let diffuse = (1.0 - self.metallic) * (1.0 - self.diffuse_transmission);
+        let mut flags = if diffuse * self.base_color.max_element() > 0.0 {
             specular | BsdfFlags::DIFFUSE
         } else {
             specular
+        };
+        let through = (1.0 - self.metallic) * self.diffuse_transmission;
+        if through * self.diffuse_transmission_color.max_element() > 0.0 {
+            flags |= BsdfFlags::TRANSMISSION | BsdfFlags::DIFFUSE;
         }
+        flags
     }
 }
 

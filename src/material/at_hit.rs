@@ -16,7 +16,8 @@
 //!    KHR_materials_pbrSpecularGlossiness, the specular colour and glossiness texture);
 //! 8. KHR_materials_anisotropy: strength and direction ([`super::anisotropy`]), which
 //!    becomes the X axis of the BSDF's frame;
-//! 9. the KHR_materials layers (their textures at the hit, the coat's own normal map);
+//! 9. the KHR_materials layers (their textures at the hit, the coat's own normal map;
+//!    diffuse transmission's strength and colour);
 //! 10. the BSDF: glTF's metallic-roughness BRDF, or the layered BSDF over it.
 //!
 //! The result does not depend on the integrator: the direct integrator and the path tracer

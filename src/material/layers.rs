@@ -3,7 +3,7 @@
 
 use crate::bsdf::{ClearcoatBsdf, DielectricBsdf, LayeredBsdf, MetallicRoughnessBsdf, SheenBsdf};
 use crate::scene::Material;
-use crate::scene::layers::{Clearcoat, Sheen, Transmission};
+use crate::scene::layers::{Clearcoat, DiffuseTransmission, Sheen, Transmission};
 use glam::Vec3;
 
 /// The layers of one material (present only on materials with at least one of them).
@@ -15,8 +15,12 @@ pub struct ShadingLayers {
     pub sheen: Option<Sheen>,
     /// KHR_materials_transmission.
     pub transmission: Option<Transmission>,
+    /// KHR_materials_diffuse_transmission.
+    pub diffuse_transmission: Option<DiffuseTransmission>,
     /// Whether KHR_materials_volume makes the transmitting surface the boundary of a volume
-    /// (refracting, with attenuation inside) rather than thin-walled.
+    /// (refracting, with attenuation inside) rather than thin-walled. A diffusely
+    /// transmitting surface does not refract either way; with a volume what it transmits
+    /// travels through the volume's medium.
     pub volume: bool,
     /// The volume's Beer-Lambert attenuation coefficient σ (zero: clear, or no volume).
     pub sigma: Vec3,
@@ -29,19 +33,27 @@ pub struct ShadingLayers {
 impl ShadingLayers {
     /// The layers of `material`, `None` when it has none (its shading is then unchanged).
     pub fn of(material: &Material) -> Option<Self> {
+        // Strength 0 transmits nothing whatever its texture says: such a material shades as
+        // one without the extension, bit for bit.
+        let diffuse_transmission = material
+            .diffuse_transmission
+            .filter(|d| d.factor.is_finite() && d.factor > 0.0);
         if material.clearcoat.is_none()
             && material.sheen.is_none()
             && material.transmission.is_none()
+            && diffuse_transmission.is_none()
         {
             return None;
         }
-        // KHR_materials_volume without transmission changes nothing (the spec ties the
-        // volume to a transmitting or translucent surface).
-        let volume = material.transmission.and(material.volume);
+        // KHR_materials_volume without transmission or diffuse transmission changes nothing
+        // (the spec ties the volume to a transmitting or translucent surface).
+        let transmits = material.transmission.is_some() || diffuse_transmission.is_some();
+        let volume = material.volume.filter(|_| transmits);
         Some(Self {
             clearcoat: material.clearcoat,
             sheen: material.sheen,
             transmission: material.transmission,
+            diffuse_transmission,
             volume: volume.is_some(),
             sigma: volume.map_or(Vec3::ZERO, |v| v.sigma()),
             coat_normal: None,
@@ -56,6 +68,7 @@ impl ShadingLayers {
             self.clearcoat.as_ref(),
             self.sheen.as_ref(),
             self.transmission.as_ref(),
+            self.diffuse_transmission.as_ref(),
         )
     }
 
@@ -79,6 +92,10 @@ impl ShadingLayers {
         if let Some(t) = &mut self.transmission {
             valid(&mut t.texture);
         }
+        if let Some(d) = &mut self.diffuse_transmission {
+            valid(&mut d.texture);
+            valid(&mut d.color_texture);
+        }
         self
     }
 
@@ -86,11 +103,11 @@ impl ShadingLayers {
     /// `doubleSided` says: a ray leaving a glass object meets them from inside).
     #[inline]
     pub fn transmits(&self) -> bool {
-        self.transmission.is_some()
+        self.transmission.is_some() || self.diffuse_transmission.is_some()
     }
 
     /// The BSDF at a hit: `base` (the material's metallic-roughness BRDF at the hit) with
-    /// these layers; `base_color` tints transmission, `roughness` is the base's perceptual
+    /// these layers (diffuse transmission goes into `base`'s diffuse lobe); `base_color` tints transmission, `roughness` is the base's perceptual
     /// roughness, `ior` the material's, and `front_face` says whether the ray arrived from
     /// outside (entering the volume) or inside.
     #[inline]
@@ -120,6 +137,10 @@ impl ShadingLayers {
                     .with_model(base.model),
             )
         });
+        let base = match self.diffuse_transmission {
+            Some(d) => base.with_diffuse_transmission(d.factor, d.color),
+            None => base,
+        };
         LayeredBsdf::new(
             base,
             transmission,
@@ -137,7 +158,8 @@ impl ShadingLayers {
 
 /// `layers` with each textured factor multiplied by its texture's channel at `at` (clamped
 /// to [0, 1], as the factors are): `clearcoatTexture` (R), `clearcoatRoughnessTexture` (G),
-/// `sheenColorTexture` (RGB), `sheenRoughnessTexture` (A), `transmissionTexture` (R).
+/// `sheenColorTexture` (RGB), `sheenRoughnessTexture` (A), `transmissionTexture` (R),
+/// `diffuseTransmissionTexture` (A), `diffuseTransmissionColorTexture` (RGB).
 #[inline]
 pub fn at_hit(
     textures: &crate::texture::TextureEvaluator<'_>,
@@ -166,6 +188,14 @@ pub fn at_hit(
         && let Some(t) = &tr.texture
     {
         tr.factor = (tr.factor * lookup(t).x).clamp(0.0, 1.0);
+    }
+    if let Some(d) = &mut out.diffuse_transmission {
+        if let Some(t) = &d.texture {
+            d.factor = (d.factor * lookup(t).w).clamp(0.0, 1.0);
+        }
+        if let Some(t) = &d.color_texture {
+            d.color = (d.color * lookup(t).truncate()).clamp(Vec3::ZERO, Vec3::ONE);
+        }
     }
     out
 }

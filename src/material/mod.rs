@@ -104,7 +104,8 @@ impl ShadingMaterial {
         }
     }
 
-    /// Whether light may pass through the surface (KHR_materials_transmission): back faces
+    /// Whether light may pass through the surface (KHR_materials_transmission or
+    /// KHR_materials_diffuse_transmission): back faces
     /// are then shaded whatever `doubleSided` says (a ray leaving glass meets them inside).
     #[inline]
     pub fn may_transmit(&self) -> bool {

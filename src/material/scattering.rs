@@ -1,7 +1,7 @@
 //! The BSDF a glint material presents at a hit, behind the [`Bsdf`] interface: glTF's
 //! metallic-roughness BRDF ([`MetallicRoughnessBsdf`], with KHR_materials_ior and
 //! KHR_materials_specular), or, for a material with KHR_materials layers (clear coat, sheen,
-//! transmission, volume), the [`LayeredBsdf`] over it. Built only by the surface front end
+//! transmission, diffuse transmission, volume), the [`LayeredBsdf`] over it. Built only by the surface front end
 //! ([`super::at_hit`](fn@super::at_hit)); the same for every integrator.
 
 use crate::bsdf::{Bsdf, BsdfFlags, BsdfSample, LayeredBsdf, MetallicRoughnessBsdf};

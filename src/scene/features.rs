@@ -34,7 +34,8 @@ pub struct SceneFeatures {
     /// build tangent frames; implies
     /// `textures`).
     pub normal_maps: bool,
-    /// At least one material with KHR_materials layers (clear coat, sheen, transmission):
+    /// At least one material with KHR_materials layers (clear coat, sheen, transmission,
+    /// diffuse transmission):
     /// both integrators shade it with the layered BSDF, so the direct integrator runs the path
     /// kernel's delta-only mode for such scenes.
     pub layered_materials: bool,
@@ -84,6 +85,7 @@ impl SceneFeatures {
                 material.clearcoat.as_ref(),
                 material.sheen.as_ref(),
                 material.transmission.as_ref(),
+                material.diffuse_transmission.as_ref(),
             );
             f.mirrors |= material.has_mirror_lobe();
             f.emission |= material.emissive != glam::Vec3::ZERO;
@@ -97,7 +99,8 @@ impl SceneFeatures {
             f.textures |= material.anisotropy.is_some_and(|a| a.texture.is_some());
             f.layered_materials |= material.clearcoat.is_some()
                 || material.sheen.is_some()
-                || material.transmission.is_some();
+                || material.transmission.is_some()
+                || material.diffuse_transmission.is_some();
         }
         f.textures |= f.normal_maps;
         f

@@ -1,5 +1,5 @@
 //! The KHR_materials layers a [`Material`](super::Material) may carry, as plain data read at
-//! load: clear coat, sheen, transmission and volume. Each is `None` on a material without its
+//! load: clear coat, sheen, transmission, diffuse transmission and volume. Each is `None` on a material without its
 //! extension, so such materials shade exactly as before (see
 //! [`crate::bsdf::layered`] for the BSDF they become).
 
@@ -44,6 +44,22 @@ pub struct Transmission {
     pub texture: Option<TextureRef>,
 }
 
+/// KHR_materials_diffuse_transmission: a share of the dielectric's diffuse base sent through
+/// the surface as a Lambertian lobe into the other hemisphere (see
+/// [`crate::bsdf::metallic_roughness`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiffuseTransmission {
+    /// `diffuseTransmissionFactor` in [0, 1]: the share of the diffuse base transmitted.
+    pub factor: f32,
+    /// `diffuseTransmissionTexture` (linear): its alpha channel multiplies `factor`.
+    pub texture: Option<TextureRef>,
+    /// `diffuseTransmissionColorFactor`, linear RGB in [0, 1]: the transmitted light's colour.
+    pub color: Vec3,
+    /// `diffuseTransmissionColorTexture` (sRGB in the file, linear here): its RGB multiplies
+    /// `color`.
+    pub color_texture: Option<TextureRef>,
+}
+
 /// KHR_materials_anisotropy: the metal's and the dielectric's specular lobes stretched along
 /// a direction in the tangent plane (see [`crate::material::anisotropy`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,11 +94,13 @@ pub fn any_texture(
     clearcoat: Option<&Clearcoat>,
     sheen: Option<&Sheen>,
     transmission: Option<&Transmission>,
+    diffuse_transmission: Option<&DiffuseTransmission>,
 ) -> bool {
     clearcoat.is_some_and(|c| {
         c.texture.is_some() || c.roughness_texture.is_some() || c.normal_texture.is_some()
     }) || sheen.is_some_and(|s| s.color_texture.is_some() || s.roughness_texture.is_some())
         || transmission.is_some_and(|t| t.texture.is_some())
+        || diffuse_transmission.is_some_and(|d| d.texture.is_some() || d.color_texture.is_some())
 }
 
 impl Volume {

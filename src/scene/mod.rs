@@ -238,7 +238,10 @@ pub struct Material {
     pub sheen: Option<layers::Sheen>,
     /// KHR_materials_transmission, if the material has it.
     pub transmission: Option<layers::Transmission>,
-    /// KHR_materials_volume, if the material has it (meaningful with transmission only).
+    /// KHR_materials_diffuse_transmission, if the material has it with a non-zero factor.
+    pub diffuse_transmission: Option<layers::DiffuseTransmission>,
+    /// KHR_materials_volume, if the material has it (meaningful with transmission or diffuse
+    /// transmission only).
     pub volume: Option<layers::Volume>,
     /// KHR_materials_anisotropy, if the material has it with a non-zero strength.
     pub anisotropy: Option<layers::Anisotropy>,
@@ -294,6 +297,7 @@ impl Default for Material {
             clearcoat: None,
             sheen: None,
             transmission: None,
+            diffuse_transmission: None,
             volume: None,
             anisotropy: None,
         }

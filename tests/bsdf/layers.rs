@@ -25,7 +25,13 @@ const WO: [(f64, f64); 3] = [(0.95, 0.3), (0.55, 2.0), (0.2, 4.0)];
 /// ∫ f |cos θi| dwi over the whole sphere by uniform sphere sampling, each transmitted
 /// direction's value multiplied by `t_scale` (to turn radiance into power across an
 /// interface): (mean, standard error) per channel.
-fn albedo_sphere(bsdf: &impl Bsdf, wo: Vec3, t_scale: f32, n: usize, seed: u64) -> (Vec3, Vec3) {
+pub(super) fn albedo_sphere(
+    bsdf: &impl Bsdf,
+    wo: Vec3,
+    t_scale: f32,
+    n: usize,
+    seed: u64,
+) -> (Vec3, Vec3) {
     let mut r = rng(seed);
     let (mut s, mut s2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     for _ in 0..n {
@@ -65,7 +71,7 @@ fn power_by_sampling(bsdf: &impl Bsdf, wo: Vec3, t_scale: f32, n: usize, seed: u
 
 /// The chi-square test, the pdf's integral (= the non-delta fraction of draws) and the mean
 /// non-delta weight against uniform-sphere integration of `eval`, for each of [`WO`].
-fn assert_sampling_ok(name: &str, bsdf: &impl Bsdf, seed: u64) {
+pub(super) fn assert_sampling_ok(name: &str, bsdf: &impl Bsdf, seed: u64) {
     for (k, &(c, phi)) in WO.iter().enumerate() {
         let wo = dir(c, phi);
         let rep = check_sampling(bsdf, wo, N, seed + k as u64);

@@ -555,4 +555,5 @@ fn roughness_zero_is_the_limit_of_rough_metal() {
         );
     }
 }
+mod diffuse_transmission;
 mod layers;

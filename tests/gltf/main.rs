@@ -5,6 +5,7 @@
 mod support;
 
 mod assets_render;
+mod diffuse_transmission;
 mod draco;
 mod gltf_coverage;
 mod gltf_load;

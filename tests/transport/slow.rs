@@ -9,6 +9,8 @@ mod adaptive;
 mod anisotropy;
 #[path = "area_lights.rs"]
 mod area_lights;
+#[path = "diffuse_transmission.rs"]
+mod diffuse_transmission;
 #[path = "environment.rs"]
 mod environment;
 #[path = "furnace_gltf.rs"]

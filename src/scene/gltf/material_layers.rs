@@ -1,9 +1,10 @@
-//! KHR_materials_clearcoat, _sheen, _transmission, _volume and _anisotropy → the layer fields of a
-//! [`Material`](crate::scene::Material).
+//! KHR_materials_clearcoat, _sheen, _transmission, _diffuse_transmission, _volume and
+//! _anisotropy → the layer fields of a [`Material`](crate::scene::Material).
 //!
 //! Factors are read from the material's extension objects and clamped to their ranges (with
 //! the usual clamping warning). Their textures (`clearcoatTexture` R, `clearcoatRoughnessTexture`
-//! G, `sheenColorTexture` RGB, `sheenRoughnessTexture` A, `transmissionTexture` R) are
+//! G, `sheenColorTexture` RGB, `sheenRoughnessTexture` A, `transmissionTexture` R,
+//! `diffuseTransmissionTexture` A, `diffuseTransmissionColorTexture` RGB, sRGB) are
 //! requested like the core ones and multiply the factors at each hit
 //! (`render::layer_textures`). `clearcoatNormalTexture` (with its `scale`) gives the coat its own shading normal.
 //! Absent or empty extensions leave the fields `None`, so materials without them are
@@ -12,7 +13,9 @@
 use super::limits;
 use super::normal_texture::TextureSlot;
 use super::source::Origin;
-use crate::scene::layers::{Anisotropy, Clearcoat, Sheen, Transmission, Volume};
+use crate::scene::layers::{
+    Anisotropy, Clearcoat, DiffuseTransmission, Sheen, Transmission, Volume,
+};
 use crate::scene::texture_decode::ColorSpace;
 use crate::scene::{NormalTextureRef, TextureRef};
 use ::gltf::json::Value;
@@ -27,6 +30,8 @@ pub struct Layers {
     pub sheen: Option<Sheen>,
     /// KHR_materials_transmission.
     pub transmission: Option<Transmission>,
+    /// KHR_materials_diffuse_transmission.
+    pub diffuse_transmission: Option<DiffuseTransmission>,
     /// KHR_materials_volume.
     pub volume: Option<Volume>,
     /// KHR_materials_anisotropy.
@@ -135,6 +140,32 @@ where
                     ext_name,
                     "transmissionTexture",
                     ColorSpace::Linear,
+                ),
+            });
+        }
+    }
+    if let Some(ext) = material.extension_value("KHR_materials_diffuse_transmission") {
+        let ext_name = "KHR_materials_diffuse_transmission";
+        let factor = reader.number(ext, ext_name, "diffuseTransmissionFactor", 0.0, 0.0, 1.0);
+        let color = reader.color(ext, ext_name, "diffuseTransmissionColorFactor", Vec3::ONE);
+        // Factor 0 transmits nothing whatever the texture says (it only multiplies).
+        if factor > 0.0 {
+            layers.diffuse_transmission = Some(DiffuseTransmission {
+                factor,
+                texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "diffuseTransmissionTexture",
+                    ColorSpace::Linear,
+                ),
+                color,
+                color_texture: texture(
+                    &mut reader,
+                    ext,
+                    ext_name,
+                    "diffuseTransmissionColorTexture",
+                    ColorSpace::Srgb,
                 ),
             });
         }
@@ -461,11 +492,48 @@ mod tests {
     }
 
     #[test]
+    fn diffuse_transmission_is_read_with_its_textures_and_factor_zero_is_none() {
+        let json = format!(
+            r#"{{"asset": {{"version": "2.0"}}, {TEXTURES},
+            "extensionsUsed": ["KHR_materials_diffuse_transmission"],
+            "materials": [{{"extensions": {{"KHR_materials_diffuse_transmission": {{
+                "diffuseTransmissionFactor": 0.25,
+                "diffuseTransmissionTexture": {{"index": 1}},
+                "diffuseTransmissionColorFactor": [1.0, 0.9, 0.85],
+                "diffuseTransmissionColorTexture": {{"index": 2, "texCoord": 1}}}}}}}}]}}"#
+        );
+        let (layers, requests, warnings) = read_first(json.as_bytes());
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(
+            requests,
+            [(1, 0, ColorSpace::Linear), (2, 1, ColorSpace::Srgb)]
+        );
+        let d = layers.diffuse_transmission.expect("diffuse transmission");
+        assert_eq!((d.factor, d.color), (0.25, Vec3::new(1.0, 0.9, 0.85)));
+        assert_eq!(d.texture.map(|t| t.texture), Some(1));
+        assert_eq!(
+            d.color_texture.map(|t| (t.texture, t.texcoord)),
+            Some((2, 1))
+        );
+        // Defaults: factor 0 is no extension at all; the colour defaults to white.
+        let zero = br#"{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_diffuse_transmission"],
+            "materials": [{"extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionColorFactor": [1, 0, 0]}}}]}"#;
+        assert_eq!(read_first(zero).0.diffuse_transmission, None);
+        let white = br#"{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_diffuse_transmission"],
+            "materials": [{"extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 2}}}]}"#;
+        let (layers, _, warnings) = read_first(white);
+        let d = layers.diffuse_transmission.expect("clamped to 1");
+        assert_eq!((d.factor, d.color), (1.0, Vec3::ONE));
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+    }
+
+    #[test]
     fn the_layer_extensions_are_declared_supported() {
         for e in [
             "KHR_materials_clearcoat",
             "KHR_materials_sheen",
             "KHR_materials_transmission",
+            "KHR_materials_diffuse_transmission",
             "KHR_materials_volume",
             "KHR_materials_anisotropy",
         ] {

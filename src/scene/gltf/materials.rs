@@ -216,6 +216,7 @@ pub fn load(
             clearcoat: layers.clearcoat,
             sheen: layers.sheen,
             transmission: layers.transmission,
+            diffuse_transmission: layers.diffuse_transmission,
             volume: layers.volume,
             anisotropy: layers.anisotropy,
         });

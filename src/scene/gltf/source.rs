@@ -20,6 +20,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_clearcoat",
     "KHR_materials_sheen",
     "KHR_materials_transmission",
+    "KHR_materials_diffuse_transmission",
     "KHR_materials_volume",
     "KHR_materials_variants",
     "KHR_materials_anisotropy",
