@@ -96,7 +96,7 @@ impl RenderStats {
             out.push("no environment: no environment sampling");
         }
         if !self.features.layered_materials {
-            out.push("no coat, sheen or transmission: metallic-roughness lobes only");
+            out.push("no coat, sheen or (diffuse) transmission: metallic-roughness lobes only");
         }
         if !k.vertex_colors {
             out.push("no vertex colours: no colour interpolation");
