@@ -39,7 +39,7 @@ use crate::accel::BackendKind;
 use crate::light::LightUnits;
 use crate::light::environment::EnvironmentError;
 use crate::output::OutputError;
-use crate::render::{Integrator, RenderError, RenderSettings};
+use crate::render::{RenderError, RenderSettings};
 use crate::scene::defaults::NoSuchCamera;
 use crate::scene::gltf::{LoadError, LoadOptions, SceneSelection};
 use crate::scene::light_spec::LightSpecError;

@@ -112,7 +112,6 @@ fn framing(scene: &Scene) -> Camera {
 
 fn settings(integrator: Integrator, spp: u32) -> RenderSettings {
     RenderSettings {
-        integrator: glint::render::Integrator::Direct,
         width: 64,
         height: 48,
         spp,
