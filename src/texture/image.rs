@@ -47,40 +47,25 @@ pub struct Wrap {
     pub t: WrapMode,
 }
 
-/// Below this magnitude [`split`] rounds with [`ROUND_MAGIC`] (2⁵¹: the sum then lies in
-/// [2⁵², 2⁵³), where the f64 spacing is exactly 1).
-const SPLIT_EXACT: f64 = 2_251_799_813_685_248.0;
-
-/// 1.5 · 2⁵²: adding it to an f64 `x` with |x| < 2⁵¹ rounds `x` to the nearest integer (ties to
-/// even, the default rounding), and the sum's low mantissa bits hold that integer in two's
-/// complement, offset by the constant's own bits.
-const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
+/// Below this magnitude every f64 is an integer plus a fraction that [`split`] finds by
+/// truncation (2⁵²: from there on every f64 is an integer).
+const SPLIT_EXACT: f64 = 4_503_599_627_370_496.0;
 
 /// A texel coordinate split into its integer part and the fraction in [0, 1).
 ///
-/// The floor is found without a rounding instruction (the baseline x86-64 target has none, so
-/// `f64::floor` is a library call) and without `as i64`, whose saturation and NaN handling
-/// cost a compare and branch each on every call of this, the innermost arithmetic of every
-/// filter: `st + ROUND_MAGIC` rounds to the nearest integer `r`, read from the sum's bits, and
-/// the floor is `r` or `r − 1`. For |st| < 2⁵¹ every step is exact, so the result is bit for
-/// bit `(st.floor() as i64, (st - st.floor()) as f32)` (the `+ 0.0` turns the fraction −0 of
-/// `st = −0` into the +0 that expression gives); larger or NaN coordinates take that
-/// expression itself.
+/// The floor is taken by truncation to an integer and a correction for negative values: the
+/// baseline x86-64 target has no rounding instruction, so `f64::floor` is a library call, and
+/// this is the innermost arithmetic of every filter. For |st| < 2⁵² the truncated value is
+/// exact, so the result is bit for bit `(st.floor() as i64, (st - st.floor()) as f32)` (the
+/// `+ 0.0` turns the fraction −0 of `st = −0` into the +0 that expression gives); larger or
+/// NaN coordinates take that expression itself.
 #[inline(always)]
 fn split(st: f64) -> (i64, f32) {
     if st.abs() < SPLIT_EXACT {
-        let sum = st + ROUND_MAGIC;
-        // Both bit patterns lie in [2⁶², 2⁶³) as i64, so the difference cannot overflow; it
-        // is the rounded integer, |r| ≤ 2⁵¹.
-        let r = sum.to_bits() as i64 - ROUND_MAGIC.to_bits() as i64;
-        // The rounded value as f64: exact (an integer of magnitude ≤ 2⁵¹).
-        let rounded = sum - ROUND_MAGIC;
-        let (floor, floor_f) = if rounded > st {
-            (r - 1, rounded - 1.0)
-        } else {
-            (r, rounded)
-        };
-        (floor, ((st - floor_f) + 0.0) as f32)
+        let t = st as i64;
+        let floor = if (t as f64) > st { t - 1 } else { t };
+        // |floor| < 2⁵², so `floor as f64` is exact: the same fraction as below.
+        (floor, ((st - floor as f64) + 0.0) as f32)
     } else {
         let floor = st.floor();
         // `as` saturates, so an absurd coordinate clamps instead of wrapping around i64.
