@@ -214,7 +214,13 @@ impl<R: TexelRead> Reader<R> {
     /// (0, 0).
     #[inline(always)]
     fn texel_space(&self, uv: Vec2) -> DVec2 {
-        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+        // `uv · 0` is ±0 (equal to 0) for finite coordinates and NaN for infinite or NaN ones:
+        // the same test as `is_finite`, without its per-component bit masks.
+        let uv = if uv * 0.0 == Vec2::ZERO {
+            uv
+        } else {
+            Vec2::ZERO
+        };
         uv.as_dvec2() * self.size
     }
 
