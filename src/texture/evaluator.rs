@@ -190,9 +190,12 @@ mod tests {
         assert_eq!(base_level(&t, Vec2::new(0.75, 0.25)), Vec4::ONE);
         assert_eq!(base_level(&t, Vec2::new(0.5, 0.25)), Vec4::splat(0.5));
         assert_eq!(base_level(&t, Vec2::new(1.25, -0.75)), Vec4::ZERO);
-        assert_eq!(
-            base_level(&t, Vec2::new(f32::NAN, 0.0)),
-            base_level(&t, Vec2::ZERO)
-        );
+        for bad in [
+            Vec2::new(f32::NAN, 0.0),
+            Vec2::new(0.75, f32::INFINITY),
+            Vec2::new(f32::NEG_INFINITY, 0.25),
+        ] {
+            assert_eq!(base_level(&t, bad), base_level(&t, Vec2::ZERO), "{bad}");
+        }
     }
 }

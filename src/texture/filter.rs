@@ -185,7 +185,6 @@ trait Probe {
 /// Nearest or bilinear on one level.
 struct OneLevelProbe<R> {
     level: Reader<R>,
-    wrap: Wrap,
     nearest: bool,
 }
 
@@ -193,9 +192,9 @@ impl<R: TexelRead> Probe for OneLevelProbe<R> {
     #[inline(always)]
     fn at(&self, uv: Vec2) -> Vec4 {
         if self.nearest {
-            self.level.nearest(uv, self.wrap)
+            self.level.nearest(uv)
         } else {
-            self.level.bilinear(uv, self.wrap)
+            self.level.bilinear(uv)
         }
     }
 }
@@ -205,15 +204,14 @@ struct TwoLevelProbe<R> {
     fine: Reader<R>,
     coarse: Reader<R>,
     f: f32,
-    wrap: Wrap,
 }
 
 impl<R: TexelRead> Probe for TwoLevelProbe<R> {
     #[inline(always)]
     fn at(&self, uv: Vec2) -> Vec4 {
         self.fine
-            .bilinear(uv, self.wrap)
-            .lerp(self.coarse.bilinear(uv, self.wrap), self.f)
+            .bilinear(uv)
+            .lerp(self.coarse.bilinear(uv), self.f)
     }
 }
 
@@ -267,8 +265,7 @@ impl TexelVisitor for OneLevel<'_> {
     #[inline(always)]
     fn visit<R: TexelRead>(self, reader: R) -> Vec4 {
         self.probes.mean(&OneLevelProbe {
-            level: Reader::new(reader, self.grid),
-            wrap: self.wrap,
+            level: Reader::new(reader, self.grid, self.wrap),
             nearest: self.nearest,
         })
     }
@@ -288,10 +285,9 @@ impl TexelPairVisitor for TwoLevels<'_> {
     #[inline(always)]
     fn visit<R: TexelRead>(self, a: R, b: R) -> Vec4 {
         self.probes.mean(&TwoLevelProbe {
-            fine: Reader::new(a, self.grids.0),
-            coarse: Reader::new(b, self.grids.1),
+            fine: Reader::new(a, self.grids.0, self.wrap),
+            coarse: Reader::new(b, self.grids.1, self.wrap),
             f: self.f,
-            wrap: self.wrap,
         })
     }
 }

@@ -73,31 +73,76 @@ fn split(st: f64) -> (i64, f32) {
     }
 }
 
-/// [`wrap`] without its integer division for the common cases: a coordinate already inside
-/// the grid, and a repeating power-of-two side (where the Euclidean remainder is a mask of the
-/// two's-complement bits). Texture coordinates outside [0, 1] are common (DamagedHelmet's v
-/// runs from 1 to 2), and a 64-bit division costs tens of cycles.
-#[inline(always)]
-fn wrap_fast(i: i64, size: u32, mode: WrapMode) -> usize {
-    if (i as u64) < u64::from(size) {
-        // 0 ≤ i < size ≤ u32::MAX.
-        i as usize
-    } else if mode == WrapMode::Repeat {
-        let n = i64::from(size);
-        if size.is_power_of_two() {
-            // i mod 2ᵏ for every i (negative ones included) is its low k bits: < size.
-            (i & (n - 1)) as usize
-        } else if (n..2 * n).contains(&i) {
-            // One period past the end: i − n in [0, n).
-            (i - n) as usize
-        } else if (-n..0).contains(&i) {
-            // One period before the start: i + n in [0, n).
-            (i + n) as usize
-        } else {
-            wrap(i, size, mode)
+/// One axis of a grid with its wrap mode, ready for [`Self::wrap`]: the mode's integer
+/// division is avoided for the common cases, a coordinate already inside the grid and a
+/// repeating power-of-two side (where the Euclidean remainder is a mask of the two's-complement
+/// bits). Texture coordinates outside [0, 1] are common (DamagedHelmet's v runs from 1 to 2),
+/// and a 64-bit division costs tens of cycles.
+#[derive(Clone, Copy)]
+struct Axis {
+    /// Texels along the axis.
+    size: u64,
+    /// `size − 1` (0 for an empty axis): the last index from which the next one is inside.
+    last: u64,
+    /// `size − 1` when the axis repeats with a power-of-two size, so that `i mod size` is
+    /// `i & mask` for every i (negative ones included); `None` otherwise.
+    mask: Option<u64>,
+    mode: WrapMode,
+}
+
+impl Axis {
+    #[inline(always)]
+    fn new(size: u32, mode: WrapMode) -> Self {
+        let size64 = u64::from(size);
+        Self {
+            size: size64,
+            last: size64.saturating_sub(1),
+            mask: (mode == WrapMode::Repeat && size.is_power_of_two()).then(|| size64 - 1),
+            mode,
         }
+    }
+
+    /// [`wrap`] of `i` on this axis.
+    #[inline(always)]
+    fn wrap(&self, i: i64) -> usize {
+        if (i as u64) < self.size {
+            // 0 ≤ i < size ≤ u32::MAX.
+            i as usize
+        } else if let Some(mask) = self.mask {
+            // i mod 2ᵏ: its low k bits, < size.
+            (i as u64 & mask) as usize
+        } else {
+            wrap_other(i, self.size, self.mode)
+        }
+    }
+
+    /// [`Self::wrap`] of `i` and of `i + 1` (saturating), the two columns or rows a bilinear
+    /// filter reads.
+    #[inline(always)]
+    fn wrap_pair(&self, i: i64) -> (usize, usize) {
+        if (i as u64) < self.last {
+            // 0 ≤ i < i + 1 < size: both inside.
+            (i as usize, i as usize + 1)
+        } else {
+            (self.wrap(i), self.wrap(i.saturating_add(1)))
+        }
+    }
+}
+
+/// [`wrap`] for the cases [`Axis::wrap`] does not take inline: one period outside a repeating
+/// side of any size without the division, everything else through [`wrap`].
+#[inline(never)]
+fn wrap_other(i: i64, size: u64, mode: WrapMode) -> usize {
+    // Invariant: `size` came from a u32.
+    let n = size as i64;
+    if mode == WrapMode::Repeat && (n..2 * n).contains(&i) {
+        // One period past the end: i − n in [0, n).
+        (i - n) as usize
+    } else if mode == WrapMode::Repeat && (-n..0).contains(&i) {
+        // One period before the start: i + n in [0, n).
+        (i + n) as usize
     } else {
-        wrap(i, size, mode)
+        wrap(i, size as u32, mode)
     }
 }
 
@@ -123,39 +168,44 @@ impl TexelVisitor for Point {
 
     #[inline(always)]
     fn visit<R: TexelRead>(self, reader: R) -> Vec4 {
-        let grid = Reader::sized(reader, self.width, self.height);
+        let grid = Reader::sized(reader, self.width, self.height, self.wrap);
         match self.filter {
-            Reconstruct::Nearest => grid.nearest(self.uv, self.wrap),
-            Reconstruct::Bilinear => grid.bilinear(self.uv, self.wrap),
-            Reconstruct::Bicubic => grid.bicubic(self.uv, self.wrap),
+            Reconstruct::Nearest => grid.nearest(self.uv),
+            Reconstruct::Bilinear => grid.bilinear(self.uv),
+            Reconstruct::Bicubic => grid.bicubic(self.uv),
         }
     }
 }
 
-/// A grid's size with the reader of its storage format: the filters, compiled per format.
-/// Filters that read many points of one level visit its storage once and reuse this
-/// ([`crate::texture::filter`]).
+/// A grid's size and wrap modes with the reader of its storage format: the filters, compiled
+/// per format. Filters that read many points of one level visit its storage once and reuse
+/// this ([`crate::texture::filter`]), so the per-axis wrap set-up ([`Axis`]) is done once too.
 pub(crate) struct Reader<R> {
     reader: R,
-    width: u32,
-    height: u32,
+    /// Row length in texels.
+    width: usize,
+    /// Horizontal axis (u, glTF `wrapS`).
+    s: Axis,
+    /// Vertical axis (v, glTF `wrapT`).
+    t: Axis,
     /// `(width, height)` in f64, the scale of [`Self::texel_space`].
     size: DVec2,
 }
 
 impl<R: TexelRead> Reader<R> {
-    /// `grid`'s size with `reader`, which must read `grid`'s texels.
+    /// `grid`'s size and `wrap` with `reader`, which must read `grid`'s texels.
     #[inline(always)]
-    pub(crate) fn new(reader: R, grid: &TexelGrid) -> Self {
-        Self::sized(reader, grid.width, grid.height)
+    pub(crate) fn new(reader: R, grid: &TexelGrid, wrap: Wrap) -> Self {
+        Self::sized(reader, grid.width, grid.height, wrap)
     }
 
     #[inline(always)]
-    fn sized(reader: R, width: u32, height: u32) -> Self {
+    fn sized(reader: R, width: u32, height: u32, wrap: Wrap) -> Self {
         Self {
             reader,
-            width,
-            height,
+            width: width as usize,
+            s: Axis::new(width, wrap.s),
+            t: Axis::new(height, wrap.t),
             size: DVec2::new(f64::from(width), f64::from(height)),
         }
     }
@@ -164,52 +214,47 @@ impl<R: TexelRead> Reader<R> {
     /// (0, 0).
     #[inline(always)]
     fn texel_space(&self, uv: Vec2) -> DVec2 {
-        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+        // `uv · 0` is ±0 (equal to 0) for finite coordinates and NaN for infinite or NaN ones:
+        // the same test as `is_finite`, without its per-component bit masks.
+        let uv = if uv * 0.0 == Vec2::ZERO {
+            uv
+        } else {
+            Vec2::ZERO
+        };
         uv.as_dvec2() * self.size
     }
 
     #[inline(always)]
     fn at(&self, ix: usize, iy: usize) -> Vec4 {
-        self.reader.read(iy * self.width as usize + ix)
+        self.reader.read(iy * self.width + ix)
     }
 
     /// [`TexelGrid::nearest`].
     #[inline(always)]
-    pub(crate) fn nearest(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+    pub(crate) fn nearest(&self, uv: Vec2) -> Vec4 {
         let st = self.texel_space(uv);
-        self.at(
-            wrap_fast(split(st.x).0, self.width, wrap.s),
-            wrap_fast(split(st.y).0, self.height, wrap.t),
-        )
+        self.at(self.s.wrap(split(st.x).0), self.t.wrap(split(st.y).0))
     }
 
     /// [`TexelGrid::bilinear`].
     #[inline(always)]
-    pub(crate) fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+    pub(crate) fn bilinear(&self, uv: Vec2) -> Vec4 {
         let st = self.texel_space(uv) - 0.5;
         let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
-        let (x0, x1) = (
-            wrap_fast(x, self.width, wrap.s),
-            wrap_fast(x.saturating_add(1), self.width, wrap.s),
-        );
-        let (y0, y1) = (
-            wrap_fast(y, self.height, wrap.t),
-            wrap_fast(y.saturating_add(1), self.height, wrap.t),
-        );
+        let (x0, x1) = self.s.wrap_pair(x);
+        let (y0, y1) = self.t.wrap_pair(y);
         let top = self.at(x0, y0).lerp(self.at(x1, y0), fx);
         let bottom = self.at(x0, y1).lerp(self.at(x1, y1), fx);
         top.lerp(bottom, fy)
     }
 
     #[inline(always)]
-    fn bicubic(&self, uv: Vec2, wrap: Wrap) -> Vec4 {
+    fn bicubic(&self, uv: Vec2) -> Vec4 {
         let st = self.texel_space(uv) - 0.5;
         let ((x, fx), (y, fy)) = (split(st.x), split(st.y));
         let (wx, wy) = (catmull_rom_weights(fx), catmull_rom_weights(fy));
-        let xs: [usize; 4] =
-            std::array::from_fn(|i| wrap_fast(x.saturating_add(i as i64 - 1), self.width, wrap.s));
-        let ys: [usize; 4] =
-            std::array::from_fn(|j| wrap_fast(y.saturating_add(j as i64 - 1), self.height, wrap.t));
+        let xs: [usize; 4] = std::array::from_fn(|i| self.s.wrap(x.saturating_add(i as i64 - 1)));
+        let ys: [usize; 4] = std::array::from_fn(|j| self.t.wrap(y.saturating_add(j as i64 - 1)));
         let mut sum = Vec4::ZERO;
         let (mut lo, mut hi) = (Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY));
         for (wyj, &iy) in wy.iter().zip(&ys) {
@@ -342,6 +387,38 @@ mod tests {
         for st in values {
             let (i, f) = split(st);
             assert_eq!((i, f.to_bits()), reference(st), "{st:e}");
+        }
+    }
+
+    /// [`Axis::wrap`] and [`Axis::wrap_pair`] against [`wrap`] for every mode on power-of-two,
+    /// other and unit sizes, at coordinates inside, one and several periods outside, and at the
+    /// ends of i64.
+    #[test]
+    fn axis_wrap_is_wrap() {
+        let modes = [
+            WrapMode::Repeat,
+            WrapMode::MirroredRepeat,
+            WrapMode::ClampToEdge,
+        ];
+        for size in [1u32, 2, 3, 4, 5, 8, 1000, 1024] {
+            let n = i64::from(size);
+            let mut coords: Vec<i64> = (-3 * n - 2..=3 * n + 2).collect();
+            coords.extend([
+                i64::MIN,
+                i64::MIN + 1,
+                i64::MAX - 1,
+                i64::MAX,
+                1 << 40,
+                -(1 << 40),
+            ]);
+            for mode in modes {
+                let axis = Axis::new(size, mode);
+                for &i in &coords {
+                    assert_eq!(axis.wrap(i), wrap(i, size, mode), "{size} {mode:?} {i}");
+                    let pair = (wrap(i, size, mode), wrap(i.saturating_add(1), size, mode));
+                    assert_eq!(axis.wrap_pair(i), pair, "{size} {mode:?} {i}");
+                }
+            }
         }
     }
 
