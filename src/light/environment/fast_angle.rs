@@ -1,5 +1,6 @@
-//! A polynomial `atan2` for the environment's direction-to-image mapping on camera rays that
-//! miss: a quarter of the instructions of the C library's `atan2f`, within a stated bound.
+//! A polynomial `atan2` for the environment's direction-to-image mapping, used by every
+//! lookup and density: a quarter of the instructions of the C library's `atan2f`, within a
+//! stated bound.
 //!
 //! The argument is reduced to `t = min(|x|, |y|) / max(|x|, |y|) ∈ [0, 1]`, where
 //! `atan(t) ≈ t · P(t²)` with `P` of degree 6 (seven coefficients, fitted here for the least
