@@ -397,6 +397,14 @@ impl EnvironmentLight {
     /// that leaves the scene pays it.
     #[inline]
     pub fn direction_to_uv(&self, d: Vec3) -> Vec2 {
+        self.map_direction(d).0
+    }
+
+    /// [`direction_to_uv`](Self::direction_to_uv) and `sin θ = √(x² + z²)` (not `√(1 − y²)`:
+    /// accurate near the poles, where `1 − y²` cancels), which the mapping computes anyway
+    /// and every density divides by.
+    #[inline]
+    fn map_direction(&self, d: Vec3) -> (Vec2, f32) {
         let phi = fast_angle::fast_atan2(d.z, d.x);
         let u = 0.5 + (phi + self.rotation) / TAU;
         // One turn up or down covers every rotation within ±π; `rem_euclid` (a library call)
@@ -411,12 +419,24 @@ impl EnvironmentLight {
             u.rem_euclid(1.0)
         };
         // atan2(sin θ, cos θ) rather than acos(y): accurate near the poles too.
-        let v = fast_angle::fast_atan2((d.x * d.x + d.z * d.z).sqrt(), d.y) * FRAC_1_PI;
+        let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
+        let v = fast_angle::fast_atan2(sin_theta, d.y) * FRAC_1_PI;
         // `max` first: a NaN direction reads (·, 0), not NaN (`clamp` would keep the NaN).
         #[allow(clippy::manual_clamp)]
         let v = v.max(0.0).min(ONE_MINUS_EPSILON);
         // A tiny negative plus one rounds to 1.0; keep u inside [0, 1).
-        Vec2::new(u.min(ONE_MINUS_EPSILON), v)
+        (Vec2::new(u.min(ONE_MINUS_EPSILON), v), sin_theta)
+    }
+
+    /// The solid-angle density of `dist` (a distribution over the image) at the direction
+    /// whose mapping is `(uv, sin θ)`: the image density over the mapping's Jacobian
+    /// `2π² sin θ`; 0 at the poles.
+    #[inline]
+    fn solid_angle_density(dist: &Distribution2D, uv: Vec2, sin_theta: f32) -> f32 {
+        if sin_theta <= 0.0 {
+            return 0.0;
+        }
+        dist.pdf(uv) / (2.0 * PI * PI * sin_theta)
     }
 
     /// The unit world direction of image coordinates `(u, v)` (inverse of
@@ -519,13 +539,8 @@ impl EnvironmentLight {
                 let Some(dist) = m.distribution(mode) else {
                     return 0.0;
                 };
-                let uv = self.direction_to_uv(d);
-                // √(x² + z²), not √(1 − y²): accurate near the poles, where 1 − y² cancels.
-                let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
-                if sin_theta <= 0.0 {
-                    return 0.0;
-                }
-                dist.pdf(uv) / (2.0 * PI * PI * sin_theta)
+                let (uv, sin_theta) = self.map_direction(d);
+                Self::solid_angle_density(dist, uv, sin_theta)
             }
         }
     }
@@ -544,16 +559,13 @@ impl EnvironmentLight {
         match &self.kind {
             Kind::Constant(_) => (self.radiance(d), self.pdf_with(d, mode)),
             Kind::Map(m) => {
-                let uv = self.direction_to_uv(d);
+                let (uv, sin_theta) = self.map_direction(d);
                 let radiance = m.lookup(uv);
-                let Some(dist) = m.distribution(mode) else {
-                    return (radiance, 0.0);
-                };
-                let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
-                if sin_theta <= 0.0 {
-                    return (radiance, 0.0);
-                }
-                (radiance, dist.pdf(uv) / (2.0 * PI * PI * sin_theta))
+                let pdf = m
+                    .distribution(mode)
+                    .as_ref()
+                    .map_or(0.0, |dist| Self::solid_angle_density(dist, uv, sin_theta));
+                (radiance, pdf)
             }
         }
     }
