@@ -450,8 +450,6 @@ impl AreaLights {
         Self::with_selection(&meshes, le, mode)
     }
 
-    /// Whether nothing emits (no light to sample; an integrator skips next-event estimation
-    /// for area lights).
     /// An upper bound on what these lights together deliver at `p` with normal `n` (zero if
     /// unknown), in the light BVH's importance units: how a light sampler weighs them against
     /// other lights. Positive wherever some light can reach `p`.
@@ -464,6 +462,8 @@ impl AreaLights {
         }
     }
 
+    /// Whether nothing emits (no light to sample; an integrator skips next-event estimation
+    /// for area lights).
     pub fn is_empty(&self) -> bool {
         self.selector.is_none()
     }
